@@ -1,0 +1,22 @@
+// Extension table. "diffuse" is the core alone (no extension object, no hook is ever called).
+#include "registry.h"
+
+namespace adapters {
+
+const std::vector<ExtensionEntry>& extensionTable() {
+  static const std::vector<ExtensionEntry> table = {
+      {"diffuse", "plain diffuse hierarchical radiosity (no extension)", nullptr},
+  };
+  return table;
+}
+
+const ExtensionEntry& findExtension(const std::string& name) {
+  std::string valid;
+  for (const auto& e : extensionTable()) {
+    if (name == e.name) return e;
+    valid += (valid.empty() ? "" : ", ") + std::string(e.name);
+  }
+  throw hr::InputError("--algorithm: unknown algorithm \"" + name + "\" (valid: " + valid + ")");
+}
+
+}  // namespace adapters

@@ -1,0 +1,74 @@
+// The host's node hierarchy: a quadtree of elements under every root patch, and a binary cluster
+// tree over the patches with a single root cluster. Nodes are append-only so NodeIds stay valid.
+#pragma once
+#include <hr/extension.h>
+#include <hr/geometry.h>
+
+#include <vector>
+
+namespace hr {
+
+struct Element {
+  Polygon poly;
+  Vec3 normal{0.0};
+  Vec3 center{0.0};
+  double area = 0.0;
+  double radius = 0.0;
+  std::uint32_t patch = 0;
+  std::uint32_t parent = kNone;
+  std::uint32_t firstChild = kNone;  // four contiguous children, or kNone for a leaf
+  std::uint32_t level = 0;
+  bool leaf() const { return firstChild == kNone; }
+};
+
+struct Cluster {
+  Aabb bounds;
+  Vec3 center{0.0};
+  double radius = 0.0;   // half the bounding-box diagonal
+  double area = 0.0;     // total surface area inside, m^2
+  std::vector<NodeId> children;  // clusters or root elements
+  std::uint32_t patchBegin = 0, patchEnd = 0;  // range in Hierarchy::patchOrder
+};
+
+class Hierarchy {
+ public:
+  /// Builds root elements and the cluster tree (leaf clusters hold at most leafSize patches).
+  Hierarchy(std::vector<Patch> patches, int leafSize = 4);
+
+  const std::vector<Patch>& patches() const { return patches_; }
+  const std::vector<Element>& elements() const { return elements_; }
+  const std::vector<Cluster>& clusters() const { return clusters_; }
+  const Element& element(std::uint32_t i) const { return elements_[i]; }
+  const Cluster& cluster(std::uint32_t i) const { return clusters_[i]; }
+  NodeId root() const { return NodeId{0 | NodeId::kClusterBit}; }
+  /// Root element of patch p has index p.
+  std::uint32_t patchRoot(std::uint32_t p) const { return p; }
+  /// Patches in cluster order; a cluster covers [patchBegin, patchEnd). Cumulative areas for sampling.
+  const std::vector<std::uint32_t>& patchOrder() const { return patchOrder_; }
+  const std::vector<double>& patchAreaPrefix() const { return areaPrefix_; }
+  Aabb bounds() const { return clusters_.empty() ? Aabb{} : clusters_[0].bounds; }
+
+  /// Creates the four children of a leaf element; returns the first child's index.
+  std::uint32_t subdivide(std::uint32_t element);
+  std::span<const NodeId> children(NodeId n) const;
+
+  double radius(NodeId n) const {
+    return n.isCluster() ? clusters_[n.index()].radius : elements_[n.index()].radius;
+  }
+  double area(NodeId n) const { return n.isCluster() ? clusters_[n.index()].area : elements_[n.index()].area; }
+  Vec3 center(NodeId n) const {
+    return n.isCluster() ? clusters_[n.index()].center : elements_[n.index()].center;
+  }
+
+ private:
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end, int leafSize);
+  std::vector<Patch> patches_;
+  std::vector<Element> elements_;
+  std::vector<Cluster> clusters_;
+  std::vector<std::uint32_t> patchOrder_;
+  std::vector<double> areaPrefix_;  // areaPrefix_[i] = area of patchOrder_[0..i)
+  std::vector<NodeId> childIds_;    // element children as NodeIds, 4 per subdivided element
+  std::vector<std::uint32_t> childSlot_;  // element -> offset into childIds_
+};
+
+}  // namespace hr

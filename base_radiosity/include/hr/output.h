@@ -1,0 +1,46 @@
+// Writers for everything the solver leaves on disk. Every writer goes through writeAtomically():
+// the bytes land in a temporary file next to the target, which is renamed only when complete.
+#pragma once
+#include <hr/solution.h>
+#include <hr/solver.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hr {
+
+void writeAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& write);
+void writeFileAtomically(const std::string& path, const std::string& bytes);
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // linear radiance, W/(m^2 sr), row-major from the top
+  std::vector<std::uint32_t> objectId;  // scene object per pixel, kNone for background
+};
+
+/// Radiance of a solution leaf toward the eye. The display hook of an extension takes precedence;
+/// the default is the smooth diffuse reconstruction B/pi.
+using DisplayFn = std::function<Rgb(std::uint32_t leaf, const Vec3& hitPoint, const Vec3& toEye)>;
+
+/// Casts one primary ray per pixel centre through Embree and shades from the stored solution.
+Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr, int threadsHint = 0);
+void writeExr(const Image& img, const std::string& path);
+Image readExr(const std::string& path);
+/// sRGB PNG, tone-mapped by a global exposure (key 0.18 over the log-average luminance) and
+/// Reinhard's x/(1+x): see README "Outputs".
+void writePng(const Image& img, const std::string& path);
+
+/// VTK XML PolyData of the leaf elements (see README "Outputs" for the arrays).
+void writeVtp(const Solution& s, const std::string& path);
+
+struct RunInfo {
+  std::string scene, host = "bright", algorithm = "diffuse";
+  double eps = 0;
+  int maxLevel = 0, threads = 1, raysPerLink = 0;
+  std::uint64_t seed = 0;
+};
+std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRssBytes);
+std::size_t peakRssBytes();
+
+}  // namespace hr

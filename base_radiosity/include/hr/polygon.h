@@ -1,0 +1,82 @@
+// Planar convex polygons with 3 or 4 vertices: the shape of every patch and element. Small inline
+// helpers (area, normal, sampling, point location) used by the hierarchy, the kernels and the renderer.
+#pragma once
+#include <hr/types.h>
+
+#include <array>
+
+namespace hr {
+
+struct Polygon {
+  std::array<Vec3, 4> v{};
+  int n = 3;  // 3 or 4
+
+  Vec3 centroid() const {
+    Vec3 c(0.0);
+    for (int i = 0; i < n; ++i) c += v[i];
+    return c / double(n);
+  }
+  /// Area vector (normal times area), exact for planar polygons.
+  Vec3 areaVector() const {
+    Vec3 a(0.0);
+    for (int i = 1; i + 1 < n; ++i) a += glm::cross(v[i] - v[0], v[i + 1] - v[0]);
+    return 0.5 * a;
+  }
+  double area() const { return glm::length(areaVector()); }
+  /// Circumscribed radius about the centroid: the polygon's size seen from afar.
+  double radius() const {
+    Vec3 c = centroid();
+    double r = 0.0;
+    for (int i = 0; i < n; ++i) r = glm::max(r, glm::length(v[i] - c));
+    return r;
+  }
+  /// Maps (u,v) in [0,1)^2 to a point, uniformly in area: triangles by the square-root warp, quads by
+  /// splitting into two triangles chosen in proportion to their areas.
+  Vec3 sample(double u, double w) const {
+    if (n == 3) return sampleTri(v[0], v[1], v[2], u, w);
+    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
+    double a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    double p = a0 / glm::max(a0 + a1, 1e-300);
+    if (u < p) return sampleTri(v[0], v[1], v[2], u / glm::max(p, 1e-300), w);
+    return sampleTri(v[0], v[2], v[3], (u - p) / glm::max(1.0 - p, 1e-300), w);
+  }
+  static Vec3 sampleTri(const Vec3& a, const Vec3& b, const Vec3& c, double u, double w) {
+    double s = std::sqrt(glm::clamp(u, 0.0, 1.0));
+    return a * (1.0 - s) + b * (s * (1.0 - w)) + c * (s * w);
+  }
+  /// Splits into the four children of the quadtree (1 -> 4 for triangles and quads alike).
+  std::array<Polygon, 4> subdivide() const {
+    std::array<Polygon, 4> ch;
+    if (n == 3) {
+      Vec3 m01 = 0.5 * (v[0] + v[1]), m12 = 0.5 * (v[1] + v[2]), m20 = 0.5 * (v[2] + v[0]);
+      ch[0] = {{v[0], m01, m20, Vec3(0.0)}, 3};
+      ch[1] = {{m01, v[1], m12, Vec3(0.0)}, 3};
+      ch[2] = {{m20, m12, v[2], Vec3(0.0)}, 3};
+      ch[3] = {{m12, m20, m01, Vec3(0.0)}, 3};
+    } else {
+      Vec3 m01 = 0.5 * (v[0] + v[1]), m12 = 0.5 * (v[1] + v[2]), m23 = 0.5 * (v[2] + v[3]),
+           m30 = 0.5 * (v[3] + v[0]), c = 0.25 * (v[0] + v[1] + v[2] + v[3]);
+      ch[0] = {{v[0], m01, c, m30}, 4};
+      ch[1] = {{m01, v[1], m12, c}, 4};
+      ch[2] = {{c, m12, v[2], m23}, 4};
+      ch[3] = {{m30, c, m23, v[3]}, 4};
+    }
+    return ch;
+  }
+  /// Smallest signed distance (in units of the polygon's own size) of p to the inside of the edges,
+  /// measured in the plane with normal nrm: >= 0 inside. Used to find the child that holds a point.
+  double insideness(const Vec3& p, const Vec3& nrm) const {
+    double m = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      const Vec3& a = v[i];
+      const Vec3& b = v[(i + 1) % n];
+      Vec3 e = b - a;
+      double len = glm::length(e);
+      if (len == 0.0) continue;
+      m = glm::min(m, glm::dot(glm::cross(e, p - a), nrm) / len);
+    }
+    return m;
+  }
+};
+
+}  // namespace hr

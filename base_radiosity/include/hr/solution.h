@@ -1,0 +1,51 @@
+// A solved scene as a self-contained snapshot: patches, the element quadtrees with their radiosity,
+// cameras and materials. Everything downstream (images, .vtp, the .ghrs file, later the viewer)
+// reads this, so a saved solution renders exactly like a fresh one.
+#pragma once
+#include <hr/geometry.h>
+#include <hr/hierarchy.h>
+
+#include <string>
+#include <vector>
+
+namespace hr {
+
+struct SolutionElement {
+  Polygon poly;
+  std::uint32_t patch = 0;
+  std::uint32_t firstChild = kNone;
+  std::uint32_t level = 0;
+  Rgb radiosity{0.0};  // W/m^2
+  bool leaf() const { return firstChild == kNone; }
+};
+
+struct Solution {
+  std::string sceneName;
+  std::string host = "bright";
+  std::string algorithm = "diffuse";
+  std::vector<Patch> patches;            // element i < patches.size() is the root of patch i
+  std::vector<SolutionElement> elements;
+  std::vector<Material> materials;
+  std::vector<Camera> cameras;
+  std::uint32_t objectCount = 0;
+
+  /// Per leaf corner, smoothed radiosity (W/m^2): filled by reconstruct().
+  std::vector<std::array<Rgb, 4>> cornerRadiosity;
+};
+
+Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<Rgb>& radiosity);
+
+/// Smooth reconstruction: each leaf corner takes the area-weighted mean radiosity of the leaves that
+/// share that point and face within 30 degrees of it (creases and touching objects stay sharp).
+void reconstruct(Solution& s);
+
+/// Finds the leaf of patch p that holds point x (descends the quadtree by point location).
+std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
+/// Smoothly reconstructed radiosity at point x on the leaf, W/m^2.
+Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x);
+
+/// Versioned binary solution file (.ghrs). Throws InputError on a truncated or foreign file.
+void saveSolution(const Solution& s, const std::string& path);
+Solution loadSolution(const std::string& path);
+
+}  // namespace hr

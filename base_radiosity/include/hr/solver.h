@@ -1,0 +1,65 @@
+// The diffuse hierarchical radiosity solver with clustering: link refinement from the root
+// cluster's self-link, Embree visibility, Jacobi gathering with re-refinement, push/pull. An optional
+// Extension receives the four hooks (gather, push/pull, reflect, display); without one this is the
+// plain diffuse core. See docs/solver.md for the refinement oracle and the transfer kernels.
+#pragma once
+#include <hr/extension.h>
+#include <hr/hierarchy.h>
+#include <hr/progress.h>
+#include <hr/visibility.h>
+
+#include <functional>
+#include <memory>
+
+namespace hr {
+
+struct SolverOptions {
+  double eps = 2e-4;          // refine a link while its error estimate exceeds eps * emitted power
+  int maxLevel = 6;           // quadtree depth below a root patch
+  double minArea = 0.0;       // m^2; 0: total area * 1e-6
+  int raysPerLink = 4;
+  int maxIterations = 200;
+  double tolerance = 1e-4;    // converged when the iteration's power change < tolerance * emitted
+  std::uint64_t seed = 1;
+  int escapeRays = 64;        // rays per leaf for the independent escaped-energy estimate
+  static SolverOptions from(const Settings& s);
+};
+
+struct IterationStat {
+  int iteration = 0;
+  double residualW = 0.0;      // sum over patches of area * |B_new - B_old| (luminance), W
+  double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
+  std::size_t links = 0, elements = 0, refined = 0;
+  double seconds = 0.0;
+};
+
+struct SolveStats {
+  double tTotal = 0, tRefine = 0, tVisibility = 0, tGather = 0, tPushPull = 0, tEnergy = 0;
+  std::size_t initialPatches = 0, elements = 0, leaves = 0, clusters = 0, links = 0;
+  std::uint64_t rays = 0;
+  std::size_t linkBytes = 0, elementBytes = 0;
+  Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel
+  int iterations = 0;
+  bool converged = false;
+  std::vector<IterationStat> history;
+};
+
+class Solver {
+ public:
+  Solver(const Scene& scene, Hierarchy& hierarchy, const Visibility& vis, const SolverOptions& opt,
+         Extension* extension = nullptr, Progress* progress = nullptr);
+  ~Solver();
+  SolveStats solve();
+
+  /// Radiosity per element (W/m^2), valid for leaves and, area-averaged, for inner elements.
+  const std::vector<Rgb>& radiosity() const;
+  /// Irradiance per element (W/m^2) from the last push.
+  const std::vector<Rgb>& irradiance() const;
+  const HostView& view() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hr

@@ -1,0 +1,42 @@
+// Embree 3 behind one small class: shadow segments (bundled 16 at a time, as the rays of one link
+// are) and primary-ray intersection for rendering. Everything else in the project sees only this.
+#pragma once
+#include <hr/geometry.h>
+
+#include <memory>
+#include <vector>
+
+namespace hr {
+
+struct SurfaceHit {
+  bool hit = false;
+  double t = 0.0;
+  std::uint32_t patch = kNone;
+};
+
+class Visibility {
+ public:
+  explicit Visibility(const std::vector<Patch>& patches);
+  ~Visibility();
+  Visibility(const Visibility&) = delete;
+  Visibility& operator=(const Visibility&) = delete;
+
+  /// For each segment from[i] -> to[i], sets blocked[i] when any surface lies strictly between the
+  /// ends. Both ends are trimmed by epsilon() so that the surfaces the ends lie on do not count.
+  void occluded(const Vec3* from, const Vec3* to, int count, bool* blocked) const;
+  bool occluded(const Vec3& from, const Vec3& to) const;
+  /// True when the ray from org along unit dir hits nothing (used for escaped energy).
+  bool escapes(const Vec3& org, const Vec3& dir) const;
+  SurfaceHit intersect(const Vec3& org, const Vec3& dir) const;
+  /// Absolute trimming distance: a small fraction of the scene's size, so scaled scenes behave alike.
+  double epsilon() const { return eps_; }
+  /// The raw Embree scene, for benchmarks that compare against plain rtcOccluded1 loops.
+  void* rawScene() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  double eps_ = 1e-6;
+};
+
+}  // namespace hr

@@ -1,0 +1,101 @@
+// Builds the element quadtrees' roots and the cluster tree. Clusters are split at the median of the
+// patch centroids along the longest axis (a plain top-down BVH), which keeps sizes balanced and the
+// patches of one cluster contiguous in patchOrder so that points can be sampled by area.
+#include <hr/hierarchy.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace hr {
+
+Hierarchy::Hierarchy(std::vector<Patch> patches, int leafSize) : patches_(std::move(patches)) {
+  elements_.reserve(patches_.size() * 4);
+  for (std::uint32_t i = 0; i < patches_.size(); ++i) {
+    const Patch& p = patches_[i];
+    Element e;
+    e.poly = p.poly;
+    e.normal = p.normal;
+    e.center = p.poly.centroid();
+    e.area = p.area;
+    e.radius = p.poly.radius();
+    e.patch = i;
+    elements_.push_back(e);
+  }
+  childSlot_.assign(elements_.size(), kNone);
+  patchOrder_.resize(patches_.size());
+  std::iota(patchOrder_.begin(), patchOrder_.end(), 0u);
+  if (!patches_.empty()) build(0, static_cast<std::uint32_t>(patches_.size()), leafSize);
+  areaPrefix_.assign(patchOrder_.size() + 1, 0.0);
+  for (std::size_t i = 0; i < patchOrder_.size(); ++i)
+    areaPrefix_[i + 1] = areaPrefix_[i] + patches_[patchOrder_[i]].area;
+}
+
+std::uint32_t Hierarchy::build(std::uint32_t begin, std::uint32_t end, int leafSize) {
+  std::uint32_t id = static_cast<std::uint32_t>(clusters_.size());
+  clusters_.emplace_back();
+  Aabb box, cbox;
+  double area = 0.0;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const Patch& p = patches_[patchOrder_[i]];
+    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+    cbox.grow(p.poly.centroid());
+    area += p.area;
+  }
+  std::vector<NodeId> kids;
+  if (end - begin <= static_cast<std::uint32_t>(leafSize)) {
+    for (std::uint32_t i = begin; i < end; ++i) kids.push_back(NodeId{patchOrder_[i]});
+  } else {
+    Vec3 ext = cbox.extent();
+    int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(patchOrder_.begin() + begin, patchOrder_.begin() + mid, patchOrder_.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       double ca = patches_[a].poly.centroid()[axis], cb = patches_[b].poly.centroid()[axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    kids.push_back(NodeId{build(begin, mid, leafSize) | NodeId::kClusterBit});
+    kids.push_back(NodeId{build(mid, end, leafSize) | NodeId::kClusterBit});
+  }
+  Cluster& c = clusters_[id];
+  c.bounds = box;
+  c.center = box.center();
+  c.radius = 0.5 * box.diagonal();
+  c.area = area;
+  c.children = std::move(kids);
+  c.patchBegin = begin;
+  c.patchEnd = end;
+  return id;
+}
+
+std::uint32_t Hierarchy::subdivide(std::uint32_t ei) {
+  if (!elements_[ei].leaf()) return elements_[ei].firstChild;
+  auto polys = elements_[ei].poly.subdivide();
+  std::uint32_t first = static_cast<std::uint32_t>(elements_.size());
+  for (int k = 0; k < 4; ++k) {
+    const Element& par = elements_[ei];
+    Element e;
+    e.poly = polys[k];
+    e.normal = par.normal;
+    e.center = polys[k].centroid();
+    e.area = polys[k].area();
+    e.radius = polys[k].radius();
+    e.patch = par.patch;
+    e.parent = ei;
+    e.level = par.level + 1;
+    elements_.push_back(e);
+  }
+  elements_[ei].firstChild = first;
+  childSlot_.resize(elements_.size(), kNone);
+  childSlot_[ei] = static_cast<std::uint32_t>(childIds_.size());
+  for (int k = 0; k < 4; ++k) childIds_.push_back(NodeId{first + k});
+  return first;
+}
+
+std::span<const NodeId> Hierarchy::children(NodeId n) const {
+  if (n.isCluster()) return clusters_[n.index()].children;
+  std::uint32_t s = childSlot_[n.index()];
+  if (s == kNone) return {};
+  return std::span<const NodeId>(childIds_.data() + s, 4);
+}
+
+}  // namespace hr

@@ -1,0 +1,64 @@
+// Point-to-polygon form factor (Lambert / Hottel contour formula) with horizon clipping, and the
+// closed forms the tests compare against.
+#include <hr/kernel.h>
+
+#include <cmath>
+
+namespace hr {
+
+double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, const Vec3& pn) {
+  // The sender radiates from its front only: x must lie in front of p's plane.
+  if (glm::dot(x - p.v[0], pn) <= 0.0) return 0.0;
+  // Clip p to the half-space above x's tangent plane (Sutherland-Hodgman, at most 5 vertices).
+  Vec3 in[5], out[5];
+  int m = 0;
+  double scale = p.radius() + glm::length(p.centroid() - x);
+  double tol = 1e-12 * scale;
+  for (int i = 0; i < p.n; ++i) {
+    const Vec3& a = p.v[i];
+    const Vec3& b = p.v[(i + 1) % p.n];
+    double da = glm::dot(a - x, n), db = glm::dot(b - x, n);
+    if (da > tol) out[m++] = a;
+    if ((da > tol) != (db > tol)) {
+      double t = (tol - da) / (db - da);
+      if (m < 5) out[m++] = a + t * (b - a);
+    }
+  }
+  if (m < 3) return 0.0;
+  for (int i = 0; i < m; ++i) in[i] = out[i] - x;
+  double sum = 0.0;
+  for (int i = 0; i < m; ++i) {
+    Vec3 a = in[i], b = in[(i + 1) % m];
+    double la = glm::length(a), lb = glm::length(b);
+    if (la == 0.0 || lb == 0.0) continue;
+    Vec3 c = glm::cross(a, b);
+    double lc = glm::length(c);
+    if (lc == 0.0) continue;
+    double theta = std::atan2(lc, glm::dot(a, b));
+    sum += theta * glm::dot(c / lc, n);
+  }
+  // Vertices run counter-clockwise seen from the front of p, i.e. clockwise seen from x: the
+  // contour sum is then negative.
+  double f = -sum / (2.0 * kPi);
+  return glm::clamp(f, 0.0, 1.0);
+}
+
+double parallelSquaresFormFactor(double side, double d) {
+  double X = side / d, Y = side / d;
+  double x1 = 1.0 + X * X, y1 = 1.0 + Y * Y;
+  return 2.0 / (kPi * X * Y) *
+         (std::log(std::sqrt(x1 * y1 / (1.0 + X * X + Y * Y))) + X * std::sqrt(y1) * std::atan(X / std::sqrt(y1)) +
+          Y * std::sqrt(x1) * std::atan(Y / std::sqrt(x1)) - X * std::atan(X) - Y * std::atan(Y));
+}
+
+double perpendicularSquaresFormFactor() {
+  // Perpendicular rectangles with a common edge, H = W = 1 (Howell's catalogue, C-14).
+  double H = 1.0, W = 1.0;
+  double a = W * std::atan(1.0 / W) + H * std::atan(1.0 / H) - std::sqrt(H * H + W * W) * std::atan(1.0 / std::sqrt(H * H + W * W));
+  double t1 = (1.0 + W * W) * (1.0 + H * H) / (1.0 + W * W + H * H);
+  double t2 = W * W * (1.0 + W * W + H * H) / ((1.0 + W * W) * (W * W + H * H));
+  double t3 = H * H * (1.0 + H * H + W * W) / ((1.0 + H * H) * (H * H + W * W));
+  return (a + 0.25 * std::log(t1 * std::pow(t2, W * W) * std::pow(t3, H * H))) / (kPi * W);
+}
+
+}  // namespace hr

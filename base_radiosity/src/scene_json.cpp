@@ -1,0 +1,297 @@
+// JSON scene reader. Validation lives here so that every later stage can trust the scene: each
+// error names the file and the JSON path of the offending key; unknown keys become warnings.
+#include <hr/scene.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace hr {
+namespace {
+
+using json = nlohmann::json;
+
+class Reader {
+ public:
+  Reader(std::string file, Scene& scene) : file_(std::move(file)), scene_(scene) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw InputError(file_ + ": " + key + ": " + what);
+  }
+
+  void checkKeys(const json& obj, const std::string& key, std::initializer_list<const char*> known) {
+    std::set<std::string> k(known.begin(), known.end());
+    for (auto it = obj.begin(); it != obj.end(); ++it)
+      if (!k.count(it.key()))
+        scene_.warnings.push_back(file_ + ": " + key + ": unknown key \"" + it.key() + "\" ignored");
+  }
+
+  const json& member(const json& obj, const std::string& key, const char* name) const {
+    if (!obj.contains(name)) fail(key, std::string("missing required key \"") + name + "\"");
+    return obj.at(name);
+  }
+
+  double number(const json& v, const std::string& key) const {
+    if (!v.is_number()) fail(key, "expected a number, got " + std::string(v.type_name()));
+    double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "value is not finite");
+    return d;
+  }
+
+  Vec3 vec3(const json& v, const std::string& key) const {
+    if (!v.is_array() || v.size() != 3) fail(key, "expected an array of 3 numbers");
+    return {number(v[0], key + "[0]"), number(v[1], key + "[1]"), number(v[2], key + "[2]")};
+  }
+
+  Rgb colour(const json& obj, const std::string& key, const char* name) const {
+    if (!obj.contains(name)) return Rgb(0.0);
+    Rgb c = vec3(obj.at(name), key + "." + name);
+    for (int i = 0; i < 3; ++i)
+      if (c[i] < 0.0) fail(key + "." + name, "negative value " + std::to_string(c[i]));
+    return c;
+  }
+
+  std::string string(const json& v, const std::string& key) const {
+    if (!v.is_string()) fail(key, "expected a string");
+    return v.get<std::string>();
+  }
+
+  int integer(const json& v, const std::string& key, int lo, int hi) const {
+    double d = number(v, key);
+    if (d != std::floor(d) || d < lo || d > hi)
+      fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return static_cast<int>(d);
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  Scene& scene_;
+};
+
+void readMaterials(Reader& r, const json& mats, Scene& s) {
+  if (!mats.is_object()) r.fail("materials", "expected an object of name -> material");
+  for (auto it = mats.begin(); it != mats.end(); ++it) {
+    const std::string key = "materials." + it.key();
+    const json& m = it.value();
+    if (!m.is_object()) r.fail(key, "expected an object");
+    r.checkKeys(m, key, {"diffuse", "specular", "exponent", "emission"});
+    Material mat;
+    mat.name = it.key();
+    mat.diffuse = r.colour(m, key, "diffuse");
+    mat.specular = r.colour(m, key, "specular");
+    mat.emission = r.colour(m, key, "emission");
+    if (m.contains("exponent")) {
+      mat.exponent = r.number(m.at("exponent"), key + ".exponent");
+      if (mat.exponent < 0.0) r.fail(key + ".exponent", "must be >= 0");
+    }
+    for (int c = 0; c < 3; ++c)
+      if (mat.diffuse[c] + mat.specular[c] > 1.0)
+        r.fail(key, "diffuse + specular = " + std::to_string(mat.diffuse[c] + mat.specular[c]) +
+                        " > 1 in channel " + std::to_string(c) + " (the material would create energy)");
+    s.materialIndex[mat.name] = static_cast<std::uint32_t>(s.materials.size());
+    s.materials.push_back(mat);
+  }
+}
+
+Transform readTransform(Reader& r, const json& t, const std::string& key) {
+  if (!t.is_object()) r.fail(key, "expected an object");
+  r.checkKeys(t, key, {"translate", "rotate_deg", "scale"});
+  Transform x;
+  if (t.contains("translate")) x.translate = r.vec3(t["translate"], key + ".translate");
+  if (t.contains("rotate_deg")) x.rotateDeg = r.vec3(t["rotate_deg"], key + ".rotate_deg");
+  if (t.contains("scale")) {
+    const json& sc = t["scale"];
+    x.scale = sc.is_number() ? Vec3(r.number(sc, key + ".scale")) : r.vec3(sc, key + ".scale");
+    for (int i = 0; i < 3; ++i)
+      if (x.scale[i] == 0.0) r.fail(key + ".scale", "zero scale makes every face degenerate");
+  }
+  return x;
+}
+
+void positive(Reader& r, double v, const std::string& key) {
+  if (!(v > 0.0)) r.fail(key, "must be > 0 (zero-size primitive)");
+}
+
+Object readObject(Reader& r, const json& o, const std::string& key, const Scene& s,
+                  const std::filesystem::path& dir) {
+  if (!o.is_object()) r.fail(key, "expected an object");
+  Object ob;
+  ob.where = r.file() + ": " + key;
+  const std::string type = r.string(r.member(o, key, "type"), key + ".type");
+  if (o.contains("material")) {
+    ob.material = r.string(o["material"], key + ".material");
+    if (!s.materialIndex.count(ob.material)) {
+      std::string known;
+      for (auto& [n, i] : s.materialIndex) known += (known.empty() ? "" : ", ") + n;
+      r.fail(key + ".material", "unknown material \"" + ob.material + "\" (defined: " + known + ")");
+    }
+  } else if (type != "mesh") {
+    r.fail(key, "missing required key \"material\"");
+  }
+  if (o.contains("transform")) ob.transform = readTransform(r, o["transform"], key + ".transform");
+  if (type == "quad") {
+    r.checkKeys(o, key, {"type", "material", "transform", "vertices"});
+    const json& v = r.member(o, key, "vertices");
+    if (!v.is_array() || v.size() != 4) r.fail(key + ".vertices", "expected 4 points");
+    for (int i = 0; i < 4; ++i) ob.quad[i] = r.vec3(v[i], key + ".vertices[" + std::to_string(i) + "]");
+    ob.type = PrimitiveType::Quad;
+  } else if (type == "box") {
+    r.checkKeys(o, key, {"type", "material", "transform", "min", "max", "facing"});
+    ob.type = PrimitiveType::Box;
+    ob.min = r.vec3(r.member(o, key, "min"), key + ".min");
+    ob.max = r.vec3(r.member(o, key, "max"), key + ".max");
+    for (int i = 0; i < 3; ++i)
+      if (!(ob.max[i] > ob.min[i])) r.fail(key, "max must exceed min on every axis (zero-size box)");
+    if (o.contains("facing")) {
+      std::string f = r.string(o["facing"], key + ".facing");
+      if (f != "inward" && f != "outward") r.fail(key + ".facing", "expected \"inward\" or \"outward\"");
+      ob.inward = f == "inward";
+    }
+  } else if (type == "disk") {
+    r.checkKeys(o, key, {"type", "material", "transform", "center", "normal", "radius"});
+    ob.type = PrimitiveType::Disk;
+    ob.center = r.vec3(r.member(o, key, "center"), key + ".center");
+    ob.normal = r.vec3(r.member(o, key, "normal"), key + ".normal");
+    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
+    positive(r, ob.radius, key + ".radius");
+    if (glm::length(ob.normal) == 0.0) r.fail(key + ".normal", "zero-length normal");
+  } else if (type == "sphere") {
+    r.checkKeys(o, key, {"type", "material", "transform", "center", "radius"});
+    ob.type = PrimitiveType::Sphere;
+    ob.center = r.vec3(r.member(o, key, "center"), key + ".center");
+    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
+    positive(r, ob.radius, key + ".radius");
+  } else if (type == "cylinder") {
+    r.checkKeys(o, key, {"type", "material", "transform", "base", "axis", "radius", "height"});
+    ob.type = PrimitiveType::Cylinder;
+    ob.base = r.vec3(r.member(o, key, "base"), key + ".base");
+    ob.axis = r.vec3(r.member(o, key, "axis"), key + ".axis");
+    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
+    ob.height = r.number(r.member(o, key, "height"), key + ".height");
+    positive(r, ob.radius, key + ".radius");
+    positive(r, ob.height, key + ".height");
+    if (glm::length(ob.axis) == 0.0) r.fail(key + ".axis", "zero-length axis");
+  } else if (type == "mesh") {
+    r.checkKeys(o, key, {"type", "material", "transform", "file"});
+    ob.type = PrimitiveType::Mesh;
+    ob.file = (dir / r.string(r.member(o, key, "file"), key + ".file")).string();
+  } else {
+    r.fail(key + ".type",
+           "unknown object type \"" + type + "\" (valid: quad, box, disk, sphere, cylinder, mesh)");
+  }
+  return ob;
+}
+
+Camera readCamera(Reader& r, const json& c, const std::string& key) {
+  if (!c.is_object()) r.fail(key, "expected an object");
+  r.checkKeys(c, key, {"name", "eye", "look_at", "up", "fov_y_deg", "width", "height"});
+  Camera cam;
+  cam.name = r.string(r.member(c, key, "name"), key + ".name");
+  if (cam.name.empty() || cam.name.find_first_of("/\\") != std::string::npos)
+    r.fail(key + ".name", "must be a non-empty file-name-safe string");
+  cam.eye = r.vec3(r.member(c, key, "eye"), key + ".eye");
+  cam.lookAt = r.vec3(r.member(c, key, "look_at"), key + ".look_at");
+  if (c.contains("up")) cam.up = r.vec3(c["up"], key + ".up");
+  if (c.contains("fov_y_deg")) cam.fovYDeg = r.number(c["fov_y_deg"], key + ".fov_y_deg");
+  if (!(cam.fovYDeg > 0.0 && cam.fovYDeg < 180.0)) r.fail(key + ".fov_y_deg", "must be in (0, 180)");
+  if (c.contains("width")) cam.width = r.integer(c["width"], key + ".width", 1, 16384);
+  if (c.contains("height")) cam.height = r.integer(c["height"], key + ".height", 1, 16384);
+  Vec3 f = cam.lookAt - cam.eye;
+  if (glm::length(f) == 0.0) r.fail(key, "eye and look_at coincide");
+  if (glm::length(glm::cross(f, cam.up)) == 0.0) r.fail(key + ".up", "parallel to the view direction");
+  return cam;
+}
+
+Settings readSettings(Reader& r, const json& j) {
+  if (!j.is_object()) r.fail("settings", "expected an object");
+  r.checkKeys(j, "settings",
+              {"eps", "max_level", "min_area", "rays_per_link", "max_iterations", "tolerance",
+               "tessellation", "seed"});
+  Settings st;
+  if (j.contains("eps")) st.eps = r.number(j["eps"], "settings.eps");
+  if (!(st.eps > 0.0)) r.fail("settings.eps", "must be > 0");
+  if (j.contains("max_level")) st.maxLevel = r.integer(j["max_level"], "settings.max_level", 0, 20);
+  if (j.contains("min_area")) st.minArea = r.number(j["min_area"], "settings.min_area");
+  if (st.minArea < 0.0) r.fail("settings.min_area", "must be >= 0");
+  if (j.contains("rays_per_link"))
+    st.raysPerLink = r.integer(j["rays_per_link"], "settings.rays_per_link", 1, 256);
+  if (j.contains("max_iterations"))
+    st.maxIterations = r.integer(j["max_iterations"], "settings.max_iterations", 1, 100000);
+  if (j.contains("tolerance")) st.tolerance = r.number(j["tolerance"], "settings.tolerance");
+  if (!(st.tolerance > 0.0)) r.fail("settings.tolerance", "must be > 0");
+  if (j.contains("tessellation"))
+    st.tessellation = r.integer(j["tessellation"], "settings.tessellation", 3, 1024);
+  if (j.contains("seed")) st.seed = static_cast<std::uint64_t>(r.integer(j["seed"], "settings.seed", 0, 2147483647));
+  return st;
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& path) {
+  Scene s;
+  s.path = path;
+  s.name = path.empty() ? "default" : std::filesystem::path(path).stem().string();
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // nlohmann reports a byte offset; turn it into a line number, which is what an editor shows.
+    std::size_t line = 1 + static_cast<std::size_t>(
+                               std::count(text.begin(), text.begin() + std::min(e.byte, text.size()), '\n'));
+    throw InputError((path.empty() ? "<scene>" : path) + ": line " + std::to_string(line) +
+                     ": malformed JSON: " + e.what());
+  }
+  Reader r(path.empty() ? "<scene>" : path, s);
+  if (!j.is_object()) r.fail("(top level)", "expected a JSON object");
+  r.checkKeys(j, "(top level)", {"materials", "objects", "cameras", "settings", "name"});
+  if (j.contains("name")) s.name = r.string(j["name"], "name");
+  readMaterials(r, r.member(j, "(top level)", "materials"), s);
+  const json& objs = r.member(j, "(top level)", "objects");
+  if (!objs.is_array() || objs.empty()) r.fail("objects", "expected a non-empty array");
+  std::filesystem::path dir = path.empty() ? std::filesystem::current_path()
+                                           : std::filesystem::path(path).parent_path();
+  for (std::size_t i = 0; i < objs.size(); ++i)
+    s.objects.push_back(readObject(r, objs[i], "objects[" + std::to_string(i) + "]", s, dir));
+  if (j.contains("cameras")) {
+    const json& cams = j["cameras"];
+    if (!cams.is_array()) r.fail("cameras", "expected an array");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < cams.size(); ++i) {
+      Camera c = readCamera(r, cams[i], "cameras[" + std::to_string(i) + "]");
+      if (!names.insert(c.name).second)
+        r.fail("cameras[" + std::to_string(i) + "].name", "duplicate camera name \"" + c.name + "\"");
+      s.cameras.push_back(c);
+    }
+  }
+  if (j.contains("settings")) s.settings = readSettings(r, j["settings"]);
+  return s;
+}
+
+Scene loadScene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parseScene(ss.str(), path);
+}
+
+glm::dmat4 Transform::matrix() const {
+  glm::dmat4 m(1.0);
+  m = glm::translate(m, translate);
+  m = glm::rotate(m, glm::radians(rotateDeg.z), Vec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(rotateDeg.y), Vec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(rotateDeg.x), Vec3(1, 0, 0));
+  m = glm::scale(m, scale);
+  return m;
+}
+
+}  // namespace hr

@@ -1,0 +1,54 @@
+// stats.json: what ran, how long each phase took, what it built, and where the energy went.
+#include <hr/output.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstring>
+
+namespace hr {
+
+std::size_t peakRssBytes() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  std::size_t kb = 0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::strncmp(line, "VmHWM:", 6) == 0) kb = std::strtoull(line + 6, nullptr, 10);
+  std::fclose(f);
+  return kb * 1024;
+}
+
+std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRss) {
+  using nlohmann::json;
+  auto rgb = [](const Rgb& c) { return json::array({c.x, c.y, c.z}); };
+  json j;
+  j["scene"] = run.scene;
+  j["host"] = run.host;
+  j["algorithm"] = run.algorithm;
+  j["eps"] = run.eps;
+  j["max_level"] = run.maxLevel;
+  j["threads"] = run.threads;
+  j["rays_per_link"] = run.raysPerLink;
+  j["seed"] = run.seed;
+  j["time_s"] = {{"total", st.tTotal}, {"refine", st.tRefine}, {"visibility", st.tVisibility}, {"gather", st.tGather},
+                 {"push_pull", st.tPushPull}, {"energy_check", st.tEnergy}};
+  j["counts"] = {{"initial_patches", st.initialPatches}, {"elements", st.elements}, {"leaves", st.leaves},
+                 {"clusters", st.clusters}, {"links", st.links}, {"rays", st.rays}};
+  j["memory_bytes"] = {{"peak_rss", peakRss}, {"links", st.linkBytes}, {"elements", st.elementBytes}};
+  Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
+  j["energy"] = {{"unit", "W per RGB channel"},
+                 {"emitted_w", rgb(st.emittedW)},
+                 {"absorbed_w", rgb(st.absorbedW)},
+                 {"escaped_w", rgb(st.escapedW)},
+                 {"imbalance_w", rgb(bal)}};
+  j["iterations"] = st.iterations;
+  j["converged"] = st.converged;
+  json hist = json::array();
+  for (const auto& h : st.history)
+    hist.push_back({{"iteration", h.iteration}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
+                    {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"seconds", h.seconds}});
+  j["history"] = hist;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace hr

@@ -1,0 +1,167 @@
+// Embree 3 visibility. One triangle geometry holds every patch (quads as two triangles); primIDs map
+// back to patches. Errors from Embree go through the registered callback and become exceptions.
+#include <embree3/rtcore.h>
+#include <hr/visibility.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace hr {
+namespace {
+
+void onEmbreeError(void* user, RTCError code, const char* msg) {
+  auto* last = static_cast<std::string*>(user);
+  *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (msg ? msg : "");
+  std::fprintf(stderr, "%s\n", last->c_str());
+}
+
+}  // namespace
+
+struct Visibility::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<std::uint32_t> triToPatch;
+  std::string lastError;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+  void check(const char* where) const {
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE || !lastError.empty())
+      throw std::runtime_error(std::string(where) + ": " + lastError);
+  }
+};
+
+Visibility::Visibility(const std::vector<Patch>& patches) : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice("threads=1");
+  if (!impl_->device) throw std::runtime_error("cannot create Embree device");
+  rtcSetDeviceErrorFunction(impl_->device, onEmbreeError, &impl_->lastError);
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  Aabb box;
+  std::size_t tris = 0;
+  for (const Patch& p : patches) {
+    tris += p.poly.n - 2;
+    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+  }
+  eps_ = glm::max(1e-5 * box.diagonal(), 1e-30);
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), tris * 3));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(unsigned), tris));
+  std::size_t t = 0;
+  impl_->triToPatch.reserve(tris);
+  for (std::uint32_t pi = 0; pi < patches.size(); ++pi) {
+    const Polygon& poly = patches[pi].poly;
+    for (int k = 1; k + 1 < poly.n; ++k, ++t) {
+      const Vec3* v[3] = {&poly.v[0], &poly.v[k], &poly.v[k + 1]};
+      for (int j = 0; j < 3; ++j) {
+        vb[9 * t + 3 * j + 0] = static_cast<float>(v[j]->x);
+        vb[9 * t + 3 * j + 1] = static_cast<float>(v[j]->y);
+        vb[9 * t + 3 * j + 2] = static_cast<float>(v[j]->z);
+        ib[3 * t + j] = static_cast<unsigned>(3 * t + j);
+      }
+      impl_->triToPatch.push_back(pi);
+    }
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(impl_->scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(impl_->scene);
+  impl_->check("building the Embree scene");
+}
+
+Visibility::~Visibility() = default;
+
+void* Visibility::rawScene() const { return impl_->scene; }
+
+void Visibility::occluded(const Vec3* from, const Vec3* to, int count, bool* blocked) const {
+  RTCIntersectContext ctx;
+  for (int base = 0; base < count; base += 16) {
+    int n = glm::min(16, count - base);
+    alignas(64) RTCRay16 r;
+    alignas(64) int valid[16];
+    for (int i = 0; i < 16; ++i) {
+      valid[i] = i < n ? -1 : 0;
+      Vec3 o = i < n ? from[base + i] : Vec3(0.0), d = i < n ? to[base + i] - o : Vec3(0, 0, 1);
+      double len = glm::length(d);
+      bool ok = i < n && len > 2.0 * eps_;
+      if (i < n && !ok) valid[i] = 0;
+      r.org_x[i] = static_cast<float>(o.x);
+      r.org_y[i] = static_cast<float>(o.y);
+      r.org_z[i] = static_cast<float>(o.z);
+      r.dir_x[i] = static_cast<float>(d.x);
+      r.dir_y[i] = static_cast<float>(d.y);
+      r.dir_z[i] = static_cast<float>(d.z);
+      r.tnear[i] = ok ? static_cast<float>(eps_ / len) : 0.0f;
+      r.tfar[i] = ok ? static_cast<float>(1.0 - eps_ / len) : 0.0f;
+      r.time[i] = 0.0f;
+      r.mask[i] = 0xFFFFFFFFu;
+      r.id[i] = 0;
+      r.flags[i] = 0;
+    }
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded16(valid, impl_->scene, &ctx, &r);
+    // Segments shorter than twice the trimming distance touch: nothing fits between their ends.
+    for (int i = 0; i < n; ++i) blocked[base + i] = valid[i] && r.tfar[i] < 0.0f;
+  }
+}
+
+bool Visibility::occluded(const Vec3& from, const Vec3& to) const {
+  bool b = false;
+  occluded(&from, &to, 1, &b);
+  return b;
+}
+
+bool Visibility::escapes(const Vec3& org, const Vec3& dir) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = static_cast<float>(org.x);
+  r.org_y = static_cast<float>(org.y);
+  r.org_z = static_cast<float>(org.z);
+  r.dir_x = static_cast<float>(dir.x);
+  r.dir_y = static_cast<float>(dir.y);
+  r.dir_z = static_cast<float>(dir.z);
+  r.tnear = static_cast<float>(eps_);
+  r.tfar = std::numeric_limits<float>::infinity();
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(impl_->scene, &ctx, &r);
+  return r.tfar >= 0.0f;
+}
+
+SurfaceHit Visibility::intersect(const Vec3& org, const Vec3& dir) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = static_cast<float>(org.x);
+  rh.ray.org_y = static_cast<float>(org.y);
+  rh.ray.org_z = static_cast<float>(org.z);
+  rh.ray.dir_x = static_cast<float>(dir.x);
+  rh.ray.dir_y = static_cast<float>(dir.y);
+  rh.ray.dir_z = static_cast<float>(dir.z);
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = std::numeric_limits<float>::infinity();
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  SurfaceHit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  h.hit = true;
+  h.t = rh.ray.tfar;
+  h.patch = impl_->triToPatch[rh.hit.primID];
+  return h;
+}
+
+}  // namespace hr

@@ -1,0 +1,44 @@
+// Shared test scaffolding: solve a JSON scene text in memory and expose the results.
+#pragma once
+#include <hr/output.h>
+#include <hr/solver.h>
+
+#include <memory>
+#include <string>
+
+namespace testutil {
+
+struct Solved {
+  hr::Scene scene;
+  std::unique_ptr<hr::Hierarchy> h;
+  std::unique_ptr<hr::Visibility> vis;
+  std::unique_ptr<hr::Solver> solver;
+  hr::SolveStats stats;
+
+  /// Area-weighted mean radiosity (W/m^2) over the leaves of one scene object.
+  hr::Rgb meanRadiosity(std::uint32_t object) const {
+    hr::Rgb sum(0.0);
+    double a = 0.0;
+    for (std::size_t i = 0; i < h->elements().size(); ++i) {
+      const auto& e = h->element(static_cast<std::uint32_t>(i));
+      if (!e.leaf() || h->patches()[e.patch].object != object) continue;
+      sum += e.area * solver->radiosity()[i];
+      a += e.area;
+    }
+    return sum / a;
+  }
+};
+
+inline Solved solveText(const std::string& json, hr::SolverOptions opt, hr::Extension* ext = nullptr) {
+  Solved s;
+  s.scene = hr::parseScene(json, "");
+  hr::TessellationReport rep;
+  auto patches = hr::buildPatches(s.scene, rep);
+  s.h = std::make_unique<hr::Hierarchy>(std::move(patches));
+  s.vis = std::make_unique<hr::Visibility>(s.h->patches());
+  s.solver = std::make_unique<hr::Solver>(s.scene, *s.h, *s.vis, opt, ext);
+  s.stats = s.solver->solve();
+  return s;
+}
+
+}  // namespace testutil

@@ -1,0 +1,7 @@
+// Test entry point: limits TBB to the thread count CI has, so runs are comparable.
+#include <gtest/gtest.h>
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
