@@ -66,6 +66,7 @@ struct Solver::Impl final : public HostView {
   std::vector<Link> links;
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges after sorting
   double emittedPower = 0.0;             // luminance, W
+  double referenceIrradiance = 0.0;      // emitted power / total area, W/m^2
   double minArea = 0.0;
   std::uint64_t rays = 0;
 
@@ -173,6 +174,15 @@ struct Solver::Impl final : public HostView {
       const Element& s = h.element(l.sender.index());
       const Element& r = h.element(l.receiver.index());
       if (s.patch == r.patch) return 0;
+      // The coefficient: unoccluded point form factors averaged over kFfPoints stratified receiver
+      // points (analytic, cheap), times the visible fraction from K rays weighted by form factor.
+      constexpr int kFfPoints = 16;
+      double fsum = 0.0;
+      for (int k = 0; k < kFfPoints; ++k) {
+        Vec3 x = r.poly.sample((k + rr.uniform()) / kFfPoints, rr.uniform());
+        fsum += pointPolygonFormFactor(x, r.normal, s.poly, s.normal);
+      }
+      double fmean = fsum / kFfPoints;
       for (int k = 0; k < K; ++k) {
         Vec3 x = r.poly.sample((k + rr.uniform()) / K, rr.uniform());
         val[k] = pointPolygonFormFactor(x, r.normal, s.poly, s.normal);
@@ -183,17 +193,32 @@ struct Solver::Impl final : public HostView {
         }
       }
       vis.occluded(from, to, n, blocked);
-      double sum = 0.0, lo = 1e300, hi = 0.0;
+      double wsum = 0.0, vsum = 0.0;
+      int nvis = 0;
       for (int k = 0, j = 0; k < K; ++k) {
-        if (val[k] > 0.0 && blocked[j++]) val[k] = 0.0;
-        sum += val[k];
-        lo = std::min(lo, val[k]);
-        hi = std::max(hi, val[k]);
+        if (val[k] <= 0.0) continue;
+        bool b = blocked[j++];
+        wsum += val[k];
+        vsum += b ? 0.0 : val[k];
+        nvis += b ? 0 : 1;
       }
-      double mean = sum / K;
-      l.coef = static_cast<float>(mean);
-      l.bound = l.coef;
-      l.spread = mean > 0.0 ? static_cast<float>((hi - lo) / mean) : 0.0f;
+      double V = wsum > 0.0 ? vsum / wsum : 1.0;
+      l.coef = static_cast<float>(fmean * V);
+      // The bound is the unoccluded transfer: a link whose few rays were all blocked may still be
+      // partly visible, so it must be refined (or found small) rather than dropped.
+      l.bound = static_cast<float>(fmean);
+      // The oracle's variation comes from fixed points (corners pulled 1e-3 inward, and the centre),
+      // not from the points that set the coefficient: deciding on the same random samples that set
+      // the value would keep preferentially the links whose samples happen to agree, a bias.
+      Vec3 c = r.center;
+      double lo = pointPolygonFormFactor(c, r.normal, s.poly, s.normal), hi = lo;
+      for (int k = 0; k < r.poly.n; ++k) {
+        double f = pointPolygonFormFactor(r.poly.v[k] + 1e-3 * (c - r.poly.v[k]), r.normal, s.poly, s.normal);
+        lo = std::min(lo, f);
+        hi = std::max(hi, f);
+      }
+      double vspread = nvis < n ? 1.0 : 0.0;  // any blocked ray: visibility is uncertain
+      l.spread = fmean > 0.0 ? static_cast<float>((hi - lo) / std::max(fmean, 1e-300) + vspread) : 0.0f;
       l.geom = 0.0f;
       return n;
     }
@@ -212,17 +237,17 @@ struct Solver::Impl final : public HostView {
     double denom = dist * dist + rs2 * rs2 + rr2 * rr2;
     Vec3 w = Vec3(l.dir);
     double cosR = l.receiver.isCluster() ? 1.0 : std::max(0.0, glm::dot(h.element(l.receiver.index()).normal, w));
-    double g = V / denom;
+    double g = 1.0 / denom;  // unoccluded; V applies to coef only
     if (l.sender.isCluster()) {
-      l.coef = static_cast<float>(g * cosR);
+      l.coef = static_cast<float>(V * g * cosR);
       l.bound = static_cast<float>(g);
     } else {
       const Element& s = h.element(l.sender.index());
       double cosS = std::max(0.0, -glm::dot(s.normal, w));
-      l.coef = static_cast<float>(g * cosR * cosS * s.area / kPi);
+      l.coef = static_cast<float>(V * g * cosR * cosS * s.area / kPi);
       l.bound = static_cast<float>(g * s.area / kPi);
     }
-    l.spread = static_cast<float>(4.0 * V * (1.0 - V));
+    l.spread = visible < K ? 1.0f : 0.0f;
     l.geom = static_cast<float>(dist > 0.0 ? (rs2 + rr2) / dist : 1e30);
     return n;
   }
@@ -233,7 +258,8 @@ struct Solver::Impl final : public HostView {
     return e.level < static_cast<std::uint32_t>(opt.maxLevel) && e.area * 0.25 >= minArea;
   }
 
-  /// The oracle: estimated error of the power the link carries, in W (luminance).
+  /// The oracle: estimated error of the power the link brings to its receiver, W (luminance): the
+  /// receiver's area times the sender's value times the transfer bound times its relative spread.
   double linkError(const Link& l) const {
     double S = luminance(senderValue(l));
     if (l.sender.isCluster()) S = std::max(S, clusterPeak(l.sender.index()));
@@ -305,8 +331,8 @@ struct Solver::Impl final : public HostView {
           if (self && (!l.sender.isCluster())) continue;  // a planar element cannot see itself
           split(l, next);
           ++split_count;
-        } else if (l.bound > 0.0f) {
-          kept.push_back(l);  // links that can carry no light are dropped
+        } else if (l.coef > 0.0f) {
+          kept.push_back(l);  // links that carry no light are dropped
         }
       }
       pending = std::move(next);
@@ -443,8 +469,8 @@ struct Solver::Impl final : public HostView {
         const int M = opt.escapeRays;
         const int side = std::max(1, static_cast<int>(std::lround(std::sqrt(double(M)))));
         for (int k = 0; k < M; ++k) {
-          // Stratified over the leaf (1D) and over the cosine-weighted hemisphere (2D grid).
-          Vec3 o = e.poly.sample((k + rng.uniform()) / M, rng.uniform());
+          // Uniform over the leaf, stratified over the cosine-weighted hemisphere (2D grid).
+          Vec3 o = e.poly.sample(rng.uniform(), rng.uniform());
           int sx = k % side, sy = (k / side) % side;
           double a = 2.0 * kPi * (sx + rng.uniform()) / side, s = std::sqrt((sy + rng.uniform()) / side);
           Vec3 d = s * std::cos(a) * u + s * std::sin(a) * v + std::sqrt(std::max(0.0, 1.0 - s * s)) * e.normal;
@@ -471,6 +497,7 @@ struct Solver::Impl final : public HostView {
     markOwned();
     for (const Patch& p : h.patches()) st.emittedW += kPi * scene.materials[p.material].emission * p.area;
     emittedPower = luminance(st.emittedW);
+    referenceIrradiance = emittedPower / std::max(totalArea, 1e-300);
     table.assign(h.clusters().size() * OctaMap::kBins * 3, 0.0f);
     {
       std::vector<Sample> none;
