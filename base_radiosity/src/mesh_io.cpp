@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 namespace hr {
 namespace {
@@ -38,7 +39,21 @@ Rgb mtlColour(const std::string& file, const std::string& mat, const char* key, 
   return v;
 }
 
+/// tinyobjloader reads "nan" and "inf" as numbers without complaint; find them first, by line.
+void rejectNonFiniteVertices(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (std::size_t no = 1; std::getline(in, line); ++no) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::string low = line;
+    for (auto& c : low) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (low.find("nan") != std::string::npos || low.find("inf") != std::string::npos)
+      throw InputError(path + ": line " + std::to_string(no) + ": vertex has a non-finite coordinate");
+  }
+}
+
 MeshData readObj(const std::string& path) {
+  rejectNonFiniteVertices(path);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = false;
   cfg.mtl_search_path = std::filesystem::path(path).parent_path().string();

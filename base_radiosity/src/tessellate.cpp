@@ -164,7 +164,12 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
     glm::dmat4 xf = o.transform.matrix();
     std::uint32_t mat = o.material.empty() ? kNone : scene.materialIndex.at(o.material);
     if (o.type == PrimitiveType::Mesh) {
-      MeshData md = readMeshFile(o.file);
+      MeshData md;
+      try {
+        md = readMeshFile(o.file);
+      } catch (const InputError& e) {
+        throw InputError(o.where + ": " + e.what());
+      }
       std::vector<std::uint32_t> slot(md.materials.size());
       for (std::size_t i = 0; i < md.materials.size(); ++i) {
         Material m = md.materials[i];
