@@ -161,6 +161,7 @@ struct Solver::Impl final : public HostView {
     Vec3 from[256], to[256];
     bool blocked[256];
     double val[256];
+    for (int k = 0; k < K; ++k) from[k] = to[k] = Vec3(0.0);  // (quiets GCC's maybe-uninitialized)
     Rng rr(opt.seed, l.receiver.value, 0x5EC);  // receiver points: the same for all of its links
     Rng rs(opt.seed, l.sender.value, l.receiver.value);
     Vec3 cs = h.center(l.sender), cr = h.center(l.receiver);
