@@ -8,6 +8,13 @@
 
 namespace testutil {
 
+/// Unit emitter (L_e = 1 W/(m^2 sr), rho = 0) facing a unit receiver (rho = 0.8) at distance 1.
+inline const char* kParallelPlates = R"({
+  "materials": { "e": { "emission": [1,1,1] }, "r": { "diffuse": [0.8,0.8,0.8] } },
+  "objects": [
+    { "type": "quad", "material": "e", "vertices": [[0,0,1],[0,1,1],[1,1,1],[1,0,1]] },
+    { "type": "quad", "material": "r", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] } ] })";
+
 struct Solved {
   hr::Scene scene;
   std::unique_ptr<hr::Hierarchy> h;

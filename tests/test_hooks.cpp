@@ -7,11 +7,7 @@
 
 namespace {
 
-const char* kScene = R"({
-  "materials": { "e": { "emission": [1,1,1] }, "r": { "diffuse": [0.5,0.5,0.5] } },
-  "objects": [
-    { "type": "quad", "material": "e", "vertices": [[0,0,1],[0,1,1],[1,1,1],[1,0,1]] },
-    { "type": "quad", "material": "r", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] } ] })";
+const char* kScene = testutil::kParallelPlates;
 
 class CountingExtension final : public hr::Extension {
  public:

@@ -7,11 +7,7 @@
 
 namespace {
 
-const char* kParallel = R"({
-  "materials": { "e": { "emission": [1,1,1] }, "r": { "diffuse": [0.8,0.8,0.8] } },
-  "objects": [
-    { "type": "quad", "material": "e", "vertices": [[0,0,1],[0,1,1],[1,1,1],[1,0,1]] },
-    { "type": "quad", "material": "r", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] } ] })";
+const char* kParallel = testutil::kParallelPlates;
 
 const char* kPerpendicular = R"({
   "materials": { "e": { "emission": [1,1,1] }, "r": { "diffuse": [0.8,0.8,0.8] } },

@@ -9,7 +9,7 @@
 
 namespace hr {
 
-Image render(const Solution& s, const Camera& cam, const DisplayFn& display, int) {
+Image render(const Solution& s, const Camera& cam, const DisplayFn& display) {
   Visibility vis(s.patches);
   Image img;
   img.width = cam.width;

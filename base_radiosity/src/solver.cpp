@@ -9,7 +9,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,12 +60,12 @@ struct Solver::Impl final : public HostView {
 
   std::vector<Rgb> B, Bprev, Eg, Et;  // per element: radiosity, previous, gathered, total irradiance
   std::vector<float> table;           // per cluster: OctaMap::kBins RGB intensities, W/sr
+  std::vector<double> peak;           // per cluster: largest luminance in its table, W/sr
   std::vector<std::uint8_t> owned;    // per element / cluster: extension owns it (subtree has handled material)
   std::vector<std::uint8_t> clusterOwned;
   std::vector<Link> links;
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges after sorting
   double emittedPower = 0.0;             // luminance, W
-  double referenceIrradiance = 0.0;      // emitted power / total area, W/m^2
   double minArea = 0.0;
   std::uint64_t rays = 0;
 
@@ -263,17 +262,10 @@ struct Solver::Impl final : public HostView {
   /// receiver's area times the sender's value times the transfer bound times its relative spread.
   double linkError(const Link& l) const {
     double S = luminance(senderValue(l));
-    if (l.sender.isCluster()) S = std::max(S, clusterPeak(l.sender.index()));
+    if (l.sender.isCluster()) S = std::max(S, peak[l.sender.index()]);
     double area = h.area(l.receiver) * (l.receiver.isCluster() ? 0.25 : 1.0);
     double uncertainty = std::max<double>(l.spread, l.geom);
     return area * S * l.bound * uncertainty;
-  }
-  double clusterPeak(std::uint32_t c) const {
-    // The largest intensity of the cluster's table: cosine-free bound for its sending side.
-    const float* t = &table[std::size_t(c) * OctaMap::kBins * 3];
-    double m = 0.0;
-    for (int i = 0; i < OctaMap::kBins; ++i) m = std::max(m, luminance(Rgb(t[3 * i], t[3 * i + 1], t[3 * i + 2])));
-    return m;
   }
 
   void split(const Link& l, std::vector<Link>& out) {
@@ -338,7 +330,6 @@ struct Solver::Impl final : public HostView {
       }
       pending = std::move(next);
       st.tRefine += since(tr);
-      progress->update(0.0);
     }
     links = std::move(kept);
     std::stable_sort(links.begin(), links.end(),
@@ -432,6 +423,10 @@ struct Solver::Impl final : public HostView {
         }
       }
     }
+    // The cosine-free bound of the cluster's sending side, read by the oracle for every link.
+    double m = 0.0;
+    for (int i = 0; i < OctaMap::kBins; ++i) m = std::max(m, luminance(Rgb(t[3 * i], t[3 * i + 1], t[3 * i + 2])));
+    peak[c] = m;
     samples.resize(mark);
   }
 
@@ -498,8 +493,8 @@ struct Solver::Impl final : public HostView {
     markOwned();
     for (const Patch& p : h.patches()) st.emittedW += kPi * scene.materials[p.material].emission * p.area;
     emittedPower = luminance(st.emittedW);
-    referenceIrradiance = emittedPower / std::max(totalArea, 1e-300);
     table.assign(h.clusters().size() * OctaMap::kBins * 3, 0.0f);
+    peak.assign(h.clusters().size(), 0.0);
     {
       std::vector<Sample> none;
       pushCluster(0, none);  // initial cluster intensities from the emitters
@@ -539,6 +534,11 @@ struct Solver::Impl final : public HostView {
                     "iteration %d: residual %.3e W (%.2e of emitted), unconverged ~%.3e W, links %zu, elements %zu, split %zu",
                     it, res, res / std::max(emittedPower, 1e-300), is.unconvergedW, links.size(), h.elements().size(), refined);
       progress->note(buf);
+      // Convergence as a percentage: how far the residual has fallen, on a log scale, from the
+      // first iteration's toward the tolerance.
+      double first = st.history.front().residualW, target = opt.tolerance * emittedPower;
+      if (first > target && res > 0.0)
+        progress->update(std::clamp(std::log(first / res) / std::log(first / target), 0.0, 1.0));
       if (!std::isfinite(res)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
       if (refined == 0 && res <= opt.tolerance * emittedPower) {
         st.converged = true;

@@ -198,7 +198,6 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
     if (o.type == PrimitiveType::Quad) {
       Polygon p{{o.quad[0], o.quad[1], o.quad[2], o.quad[3]}, 4};
       for (int i = 0; i < 4; ++i) p.v[i] = Vec3(xf * glm::dvec4(p.v[i], 1.0));
-      Vec3 c = p.centroid();
       double r = p.radius();
       // A quad whose vertices are not in convex counter-clockwise order is a user error, not a mesh.
       Vec3 nrm = p.areaVector();
@@ -209,7 +208,6 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
         if (glm::dot(glm::cross(e0, e1), nrm) < -1e-9 * r * r)
           throw InputError(o.where + ".vertices: quad is not convex with consistent winding");
       }
-      (void)c;
       sink.add(p, mat, oi);
       continue;
     }

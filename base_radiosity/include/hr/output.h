@@ -24,7 +24,7 @@ struct Image {
 using DisplayFn = std::function<Rgb(std::uint32_t leaf, const Vec3& hitPoint, const Vec3& toEye)>;
 
 /// Casts one primary ray per pixel centre through Embree and shades from the stored solution.
-Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr, int threadsHint = 0);
+Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr);
 void writeExr(const Image& img, const std::string& path);
 Image readExr(const std::string& path);
 /// sRGB PNG, tone-mapped by a global exposure (key 0.18 over the log-average luminance) and

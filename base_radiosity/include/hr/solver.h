@@ -8,7 +8,6 @@
 #include <hr/progress.h>
 #include <hr/visibility.h>
 
-#include <functional>
 #include <memory>
 
 namespace hr {
