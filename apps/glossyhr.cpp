@@ -112,10 +112,10 @@ int runSolve(const SolveArgs& a) {
     std::fprintf(stderr,
                  "\nsummary: %s in %.2f s, %d iteration(s), %s\n"
                  "  %zu patches -> %zu elements (%zu leaves), %zu clusters, %zu links, %llu rays\n"
-                 "  power (W, green channel): emitted %.4g, absorbed %.4g, escaped %.4g, imbalance %.2f%%\n",
+                 "  power (W, green channel): emitted %.4g, absorbed %.4g (%.3g by back faces), escaped %.4g, imbalance %.2f%%\n",
                  run.scene.c_str(), st.tTotal, st.iterations, st.converged ? "converged" : "NOT converged",
                  st.initialPatches, st.elements, st.leaves, st.clusters, st.links,
-                 static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.escapedW.y,
+                 static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
   }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());

@@ -54,4 +54,20 @@ TEST(Kernel, TouchingStaysBounded) {
   }
 }
 
+TEST(Kernel, MeanFormFactorMatchesClosedForms) {
+  // Area-averaged form factors by Gauss-Legendre over the receiver against Howell's closed forms,
+  // including the hardest case (a shared edge, where the point form factor climbs steeply).
+  auto recv = quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});  // faces +z
+  auto above = quad({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1});  // faces -z
+  auto side = quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1});   // faces +x, shares the edge x = 0
+  auto n = [](const hr::Polygon& p) { return glm::normalize(p.areaVector()); };
+  EXPECT_NEAR(hr::meanFormFactor(recv, n(recv), above, n(above), 4) / hr::parallelSquaresFormFactor(1, 1), 1.0, 1e-4);
+  EXPECT_NEAR(hr::meanFormFactor(recv, n(recv), side, n(side), 4) / hr::perpendicularSquaresFormFactor(), 1.0, 1e-5);
+  // A triangle receiver (the collapsed map) covering half the square: the two halves sum to the whole.
+  hr::Polygon t1{{hr::Vec3(0, 0, 0), hr::Vec3(1, 0, 0), hr::Vec3(1, 1, 0), hr::Vec3(0)}, 3};
+  hr::Polygon t2{{hr::Vec3(0, 0, 0), hr::Vec3(1, 1, 0), hr::Vec3(0, 1, 0), hr::Vec3(0)}, 3};
+  double half = 0.5 * (hr::meanFormFactor(t1, n(t1), side, n(side), 6) + hr::meanFormFactor(t2, n(t2), side, n(side), 6));
+  EXPECT_NEAR(half / hr::perpendicularSquaresFormFactor(), 1.0, 1e-3);
+}
+
 }  // namespace

@@ -64,9 +64,7 @@ void checkFurnace(double rho, double eps, int maxLevel) {
     if (!s.h->element(static_cast<std::uint32_t>(i)).leaf()) continue;
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(s.solver->radiosity()[i][c] / expected - 1.0));
   }
-  // The issue asks for 1 %; this solver reaches about 3 % at the worst leaf (next to the cube's
-  // edges, where ancestor links average a form factor that varies steeply). Tracked as open work.
-  EXPECT_LT(worst, rho < 0.7 ? 0.03 : 0.04) << "every element's B near pi Le / (1 - rho)";
+  EXPECT_LT(worst, 0.01) << "every element's B within 1 % of pi Le / (1 - rho)";
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(s.stats.absorbedW[c] / s.stats.emittedW[c], 1.0, 0.005) << "emitted = absorbed within 0.5 %";
     // Escape rays that slip through the cube's edges in single precision: a leak, not a loss.
@@ -74,27 +72,44 @@ void checkFurnace(double rho, double eps, int maxLevel) {
   }
 }
 
-TEST(Furnace, ClosedCubeRho05) { checkFurnace(0.5, 2e-6, 5); }
-TEST(Furnace, ClosedCubeRho09) { checkFurnace(0.9, 1e-5, 4); }
+// Measured worst leaves: 3e-5 (rho 0.5) and 9e-5 (rho 0.9) relative.
+TEST(Furnace, ClosedCubeRho05) { checkFurnace(0.5, 4e-4, 4); }
+TEST(Furnace, ClosedCubeRho09) { checkFurnace(0.9, 4e-4, 4); }
 
 }  // namespace
 
 namespace {
 
-TEST(OpenScene, EmittedEqualsAbsorbedPlusEscaped) {
-  // The built-in Cornell box has an open front; escaped power is measured by ray casting,
-  // independently of the links.
-  hr::Scene sc = hr::defaultScene();
-  hr::SolverOptions o = hr::SolverOptions::from(sc.settings);
-  o.eps = 5e-5;
-  auto s = testutil::solveText(hr::kDefaultSceneJson, o);
+void checkOpenScene(const std::string& json, double eps) {
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = eps;
+  auto s = testutil::solveText(json, o);
   ASSERT_TRUE(s.stats.converged);
   for (int c = 0; c < 3; ++c) {
     double total = s.stats.absorbedW[c] + s.stats.escapedW[c];
-    // The issue asks for 1 %; the core reaches 2-3.5 % here (1.5-2.5 % at eps 1e-5): open work.
-    EXPECT_NEAR(total / s.stats.emittedW[c], 1.0, 0.04) << "channel " << c;
+    EXPECT_NEAR(total / s.stats.emittedW[c], 1.0, 0.01) << "channel " << c;
     EXPECT_GT(s.stats.escapedW[c], 0.1 * s.stats.emittedW[c]);
   }
+}
+
+// The built-in Cornell box has an open front and two boxes that occlude; absorbed power counts the
+// black backs of one-sided surfaces, escaped power is measured by ray casting, independently of the
+// links. Measured: 0.71 % (green) at the default eps 2e-4, 0.36 % at 5e-5.
+TEST(OpenScene, CornellBoxBalance) { checkOpenScene(hr::kDefaultSceneJson, 2e-4); }
+
+// The same room without the boxes, grey, with the light panel 0.1 below the ceiling (its back is lit
+// by the ceiling): measured 0.65 %.
+TEST(OpenScene, RoomWithHangingLightBalance) {
+  const char* json = R"({
+  "materials": { "w": { "diffuse": [0.73,0.73,0.73] }, "l": { "diffuse": [0.73,0.73,0.73], "emission": [17,12,4] } },
+  "objects": [
+    { "type": "quad", "material": "w", "vertices": [[0,0,0],[0,0,2],[2,0,2],[2,0,0]] },
+    { "type": "quad", "material": "w", "vertices": [[0,2,0],[2,2,0],[2,2,2],[0,2,2]] },
+    { "type": "quad", "material": "w", "vertices": [[0,0,0],[2,0,0],[2,2,0],[0,2,0]] },
+    { "type": "quad", "material": "w", "vertices": [[0,0,0],[0,2,0],[0,2,2],[0,0,2]] },
+    { "type": "quad", "material": "w", "vertices": [[2,0,0],[2,0,2],[2,2,2],[2,2,0]] },
+    { "type": "quad", "material": "l", "vertices": [[0.75,1.9,0.75],[1.25,1.9,0.75],[1.25,1.9,1.25],[0.75,1.9,1.25]] } ] })";
+  checkOpenScene(json, 2e-4);
 }
 
 TEST(OpenScene, ParallelPlatesBalance) {

@@ -2,6 +2,8 @@
 // closed forms the tests compare against.
 #include <hr/kernel.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace hr {
@@ -41,6 +43,62 @@ double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, co
   // contour sum is then negative.
   double f = -sum / (2.0 * kPi);
   return glm::clamp(f, 0.0, 1.0);
+}
+
+namespace {
+
+/// Gauss-Legendre nodes and weights on [0, 1], by Newton's iteration on P_n (done once per order).
+struct GaussLegendre {
+  std::array<double, 8> x{}, w{};
+  explicit GaussLegendre(int n) {
+    for (int i = 0; i < n; ++i) {
+      double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 1.0;
+      for (int it = 0; it < 100; ++it) {
+        double p1 = 1.0, p2 = 0.0;
+        for (int j = 0; j < n; ++j) {
+          double p3 = p2;
+          p2 = p1;
+          p1 = ((2.0 * j + 1.0) * z * p2 - j * p3) / (j + 1.0);
+        }
+        dp = n * (z * p1 - p2) / (z * z - 1.0);
+        double dz = p1 / dp;
+        z -= dz;
+        if (std::abs(dz) < 1e-16) break;
+      }
+      x[i] = 0.5 * (1.0 - z);
+      w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
+    }
+  }
+};
+
+}  // namespace
+
+double meanFormFactor(const Polygon& r, const Vec3& rn, const Polygon& s, const Vec3& sn, int order) {
+  static const std::array<GaussLegendre, 9> rules = {GaussLegendre(1), GaussLegendre(1), GaussLegendre(2),
+                                                     GaussLegendre(3), GaussLegendre(4), GaussLegendre(5),
+                                                     GaussLegendre(6), GaussLegendre(7), GaussLegendre(8)};
+  const GaussLegendre& g = rules[std::size_t(std::clamp(order, 1, 8))];
+  const int n = std::clamp(order, 1, 8);
+  double sum = 0.0, wsum = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double u = g.x[i], v = g.x[j], jac;
+      Vec3 x;
+      if (r.n == 4) {
+        Vec3 du = (1.0 - v) * (r.v[1] - r.v[0]) + v * (r.v[2] - r.v[3]);
+        Vec3 dv = (1.0 - u) * (r.v[3] - r.v[0]) + u * (r.v[2] - r.v[1]);
+        x = (1.0 - u) * (1.0 - v) * r.v[0] + u * (1.0 - v) * r.v[1] + u * v * r.v[2] + (1.0 - u) * v * r.v[3];
+        jac = glm::length(glm::cross(du, dv));
+      } else {
+        // Collapsed square: x = v0 + u (v1 - v0) + u v (v2 - v1), Jacobian proportional to u.
+        x = r.v[0] + u * (r.v[1] - r.v[0]) + u * v * (r.v[2] - r.v[1]);
+        jac = u;
+      }
+      double wt = g.w[i] * g.w[j] * jac;
+      sum += wt * pointPolygonFormFactor(x, rn, s, sn);
+      wsum += wt;
+    }
+  return wsum > 0.0 ? sum / wsum : 0.0;
 }
 
 double parallelSquaresFormFactor(double side, double d) {

@@ -39,6 +39,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["energy"] = {{"unit", "W per RGB channel"},
                  {"emitted_w", rgb(st.emittedW)},
                  {"absorbed_w", rgb(st.absorbedW)},
+                 {"absorbed_back_faces_w", rgb(st.backAbsorbedW)},
                  {"escaped_w", rgb(st.escapedW)},
                  {"imbalance_w", rgb(bal)}};
   j["iterations"] = st.iterations;

@@ -38,6 +38,7 @@ struct SolveStats {
   std::uint64_t rays = 0;
   std::size_t linkBytes = 0, elementBytes = 0;
   Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel
+  Rgb backAbsorbedW{0.0};  // the part of absorbedW that reached the black back of a one-sided surface
   int iterations = 0;
   bool converged = false;
   std::vector<IterationStat> history;
