@@ -1,5 +1,6 @@
 // glossyhr: the command line. `solve` runs the radiosity solver on a scene and writes stats.json,
-// solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution.
+// solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
+// `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp).
 // Input is validated completely before the output folder is touched.
 #include <CLI/CLI.hpp>
 #include <hr/output.h>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "lobe_command.h"
 #include "registry.h"
 
 namespace fs = std::filesystem;
@@ -171,10 +173,30 @@ int main(int argc, char** argv) {
   render->add_option("--camera", camera, "camera name (default: the first)");
   render->add_option("-o,--output", image, "output image (.exr or .png)")->required();
   render->add_flag("--quiet", rquiet, "no progress on stderr");
+  LobeArgs la;
+  auto* lobe = app.add_subcommand("lobe", "project one material's reflected lobe into a directional basis and measure it");
+  lobe->add_option("--exponent", la.exponent, "Phong exponent n")->capture_default_str();
+  lobe->add_option("--specular", la.specular, "specular reflectance rho_s")->capture_default_str();
+  lobe->add_option("--diffuse", la.diffuse, "diffuse reflectance rho_d")->capture_default_str();
+  lobe->add_option("--incident-deg", la.incidentDeg, "incident angle from the normal, degrees")->capture_default_str();
+  lobe->add_option("--azimuth-deg", la.azimuthDeg, "incident azimuth, degrees")->capture_default_str();
+  lobe->add_option("--basis", la.basis, "haar, tetra or sh")->capture_default_str();
+  lobe->add_option("--eps", la.eps, "haar: refinement threshold (relative: fraction of the centre value; absolute: W/sr)");
+  lobe->add_option("--min-level", la.minLevel, "haar: minimum level (default 2)");
+  lobe->add_option("--max-level", la.maxLevel, "haar: maximum level (default 8)");
+  lobe->add_option("--refiner", la.refiner, "haar: relative or absolute")->capture_default_str();
+  lobe->add_option("--floor", la.floor, "haar, relative refiner: ignore variation below this fraction of the peak (default 1e-3)");
+  lobe->add_flag("--no-hints", la.noHints, "haar: do not refine around the mirror direction");
+  lobe->add_option("--level", la.level, "tetra: subdivision level (default 3)");
+  lobe->add_option("--order", la.order, "sh: number of bands L, L^2 coefficients (default 8)");
+  lobe->add_option("--quadrature", la.quadrature, "sh: Gauss-Legendre nodes in cos(theta) for the projection");
+  lobe->add_flag("--json", la.json, "print the report as JSON");
+  lobe->add_option("-o,--output", la.out, "write the lobe as a VTK surface (.vtp)");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*solve) return runSolve(sa);
     if (*render) return runRender(solPath, camera, image, rquiet);
+    if (*lobe) return runLobe(la);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

@@ -3,6 +3,8 @@
 #include <hr/output.h>
 #include <hr/solver.h>
 
+#include <array>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -46,6 +48,18 @@ inline Solved solveText(const std::string& json, hr::SolverOptions opt, hr::Exte
   s.solver = std::make_unique<hr::Solver>(s.scene, *s.h, *s.vis, opt, ext);
   s.stats = s.solver->solve();
   return s;
+}
+
+/// Runs the glossyhr binary with the given arguments (stderr folded into the output); returns the
+/// exit status as pclose reports it (0 on success).
+inline int runCli(const std::string& args, std::string& output) {
+  std::string cmd = std::string(GHR_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return -1;
+  output.clear();
+  std::array<char, 512> buf;
+  while (fgets(buf.data(), buf.size(), p)) output += buf.data();
+  return pclose(p);
 }
 
 }  // namespace testutil

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "helpers.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -51,6 +53,8 @@ std::vector<Case> cases() {
   };
 }
 
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 class SceneErrors : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SceneErrors, ClearMessageNonZeroExitNoOutput) {
@@ -62,13 +66,8 @@ TEST_P(SceneErrors, ClearMessageNonZeroExitNoOutput) {
   std::ofstream(scene) << c.scene;
   if (c.meshName) std::ofstream(dir / c.meshName) << c.mesh;
   fs::path out = dir / "out";
-  std::string cmd = std::string(GHR_BINARY) + " solve " + scene.string() + " -o " + out.string() + " --quiet 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
   std::string text;
-  std::array<char, 512> buf;
-  while (fgets(buf.data(), buf.size(), p)) text += buf.data();
-  int status = pclose(p);
+  int status = testutil::runCli("solve " + scene.string() + " -o " + out.string() + " --quiet", text);
   EXPECT_NE(status, 0) << text;
   EXPECT_NE(text.find(scene.string()), std::string::npos) << "message names the file: " << text;
   EXPECT_NE(text.find(c.expect), std::string::npos) << "message names the key: " << text;

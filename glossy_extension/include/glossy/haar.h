@@ -189,6 +189,7 @@ HaarDistribution HaarDistribution::project(F&& f, const HaarOptions& o, std::spa
     Rgb c[3] = {b.sample(t.dir(0)), b.sample(t.dir(1)), b.sample(t.dir(2))};
     b.build(static_cast<std::uint32_t>(face), t, 0, c);
   }
+  d.nodes_.shrink_to_fit();  // a projected distribution is kept for the whole solve: hold no slack
   return d;
 }
 
