@@ -12,8 +12,8 @@ namespace {
 double phongSpecularAlbedo(double exponent, const Vec3& wi, const Vec3& n, int resolution) {
   if (glm::dot(wi, n) <= 0.0) return 0.0;
   Vec3 r = mirror(wi, n);
-  Vec3 t = std::abs(r.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  Vec3 u = glm::normalize(glm::cross(t, r)), v = glm::cross(r, u);
+  Vec3 u, v;
+  orthonormalBasis(r, u, v);
   const int NS = resolution, NP = 2 * resolution;
   double sum = 0.0;
   for (int i = 0; i < NS; ++i) {
@@ -32,6 +32,36 @@ double phongSpecularAlbedo(double exponent, const Vec3& wi, const Vec3& n, int r
 }
 
 }  // namespace
+
+namespace {
+
+double diffuseShare(const ModifiedPhong& b) {
+  double d = hr::luminance(b.diffuse), s = hr::luminance(b.specular);
+  return d + s > 0.0 ? d / (d + s) : 1.0;
+}
+
+}  // namespace
+
+BrdfSample sample(const ModifiedPhong& b, const Vec3& wi, const Vec3& n, double u1, double u2, double u3) {
+  Vec3 axis = u1 < diffuseShare(b) ? n : mirror(wi, n);
+  Vec3 u, v;
+  orthonormalBasis(axis, u, v);
+  double c = axis == n ? std::sqrt(u2) : std::pow(u2, 1.0 / (b.exponent + 1.0));
+  double s = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = 2.0 * kPi * u3;
+  BrdfSample r;
+  r.wo = c * axis + s * (std::cos(phi) * u + std::sin(phi) * v);
+  r.pdf = pdf(b, wi, r.wo, n);
+  return r;
+}
+
+double pdf(const ModifiedPhong& b, const Vec3& wi, const Vec3& wo, const Vec3& n) {
+  double pd = diffuseShare(b);
+  double cd = glm::dot(wo, n);
+  double p = cd > 0.0 ? pd * cd / kPi : 0.0;
+  double ca = glm::dot(wo, mirror(wi, n));
+  if (ca > 0.0 && pd < 1.0) p += (1.0 - pd) * (b.exponent + 1.0) / (2.0 * kPi) * std::pow(ca, b.exponent);
+  return p;
+}
 
 Rgb albedo(const Brdf& b, const Vec3& wi, const Vec3& n, int resolution) {
   if (const auto* l = std::get_if<Lambert>(&b)) return glm::dot(wi, n) > 0.0 ? l->rho : Rgb(0.0);

@@ -17,11 +17,7 @@ double uniform(std::mt19937_64& g) { return double(g() >> 11) * 0x1.0p-53; }
 
 struct Frame {
   Vec3 u, v, w;
-  explicit Frame(const Vec3& z) : w(z) {
-    Vec3 t = std::abs(z.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-    u = glm::normalize(glm::cross(t, z));
-    v = glm::cross(z, u);
-  }
+  explicit Frame(const Vec3& z) : w(z) { orthonormalBasis(z, u, v); }
 };
 
 }  // namespace

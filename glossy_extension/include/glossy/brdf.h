@@ -43,6 +43,19 @@ inline Rgb eval(const Brdf& b, const Vec3& wi, const Vec3& wo, const Vec3& n) {
   return std::visit([&](const auto& m) { return eval(m, wi, wo, n); }, b);
 }
 
+/// A direction drawn for importance sampling, with its probability density (per steradian).
+struct BrdfSample {
+  Vec3 wo{0.0};
+  double pdf = 0.0;
+};
+
+/// Samples wo for light from wi (u1..u3 uniform in [0, 1)): with probability rho_d / (rho_d + rho_s)
+/// (luminances) a cosine-distributed direction about n, otherwise a cos^n lobe about the mirror
+/// direction. A lobe sample may fall below the surface: f is then 0 and the path ends.
+BrdfSample sample(const ModifiedPhong& b, const Vec3& wi, const Vec3& n, double u1, double u2, double u3);
+/// The density sample() draws wo with, per steradian.
+double pdf(const ModifiedPhong& b, const Vec3& wi, const Vec3& wo, const Vec3& n);
+
 /// Directional albedo for light from wi: the integral of f cos(theta_o) over the hemisphere, by
 /// quadrature in the lobe's frame with resolution x 2 resolution nodes; the reference the tests and
 /// `glossyhr lobe` compare with (the default is accurate to about 1e-5 even for n = 1).

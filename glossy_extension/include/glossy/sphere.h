@@ -21,6 +21,13 @@ inline double solidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 2.0 * std::atan2(num, den);
 }
 
+/// Completes unit vector w to a right-handed orthonormal frame (u, v, w).
+inline void orthonormalBasis(const Vec3& w, Vec3& u, Vec3& v) {
+  Vec3 t = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  u = glm::normalize(glm::cross(t, w));
+  v = glm::cross(w, u);
+}
+
 /// Barycentric coordinates of a point inside a triangle of the 1->4 hierarchy.
 struct Bary {
   double b0, b1, b2;
