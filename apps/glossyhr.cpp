@@ -1,8 +1,10 @@
 // glossyhr: the command line. `solve` runs the radiosity solver on a scene and writes stats.json,
 // solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
-// `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp).
+// `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp);
+// `reference` path-traces reference images and `compare` measures one image against another.
 // Input is validated completely before the output folder is touched.
 #include <CLI/CLI.hpp>
+#include <hr/camera.h>
 #include <hr/output.h>
 #include <hr/solver.h>
 #include <tbb/global_control.h>
@@ -12,6 +14,7 @@
 #include <thread>
 
 #include "lobe_command.h"
+#include "reference_command.h"
 #include "registry.h"
 
 namespace fs = std::filesystem;
@@ -25,19 +28,6 @@ struct SolveArgs {
   long long seed = -1;
   bool quiet = false;
 };
-
-/// A camera that frames the whole scene from the +z side, for scenes that bring none.
-hr::Camera autoCamera(const hr::Aabb& box) {
-  hr::Camera c;
-  c.name = "auto";
-  c.lookAt = box.center();
-  double r = 0.5 * box.diagonal();
-  c.eye = c.lookAt + hr::Vec3(0.3 * r, 0.4 * r, 2.6 * r);
-  c.fovYDeg = 45;
-  c.width = 320;
-  c.height = 240;
-  return c;
-}
 
 void writeImages(const hr::Solution& sol, const std::string& dir, bool quiet, std::vector<std::string>& written) {
   for (const hr::Camera& cam : sol.cameras) {
@@ -76,7 +66,7 @@ int runSolve(const SolveArgs& a) {
   if (rep.splitNonPlanar)
     std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.splitNonPlanar);
   hr::Hierarchy hier(std::move(patches));
-  if (scene.cameras.empty()) scene.cameras.push_back(autoCamera(hier.bounds()));
+  if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(hier.bounds()));
   progress.phase("building visibility");
   hr::Visibility vis(hier.patches());
   auto ext = entry.make ? entry.make() : nullptr;
@@ -192,11 +182,30 @@ int main(int argc, char** argv) {
   lobe->add_option("--quadrature", la.quadrature, "sh: Gauss-Legendre nodes in cos(theta) for the projection");
   lobe->add_flag("--json", la.json, "print the report as JSON");
   lobe->add_option("-o,--output", la.out, "write the lobe as a VTK surface (.vtp)");
+  ReferenceArgs ra;
+  auto* reference = app.add_subcommand("reference", "path-traced reference images of a scene (NEE + MIS)");
+  reference->add_option("scene", ra.scene, "scene file (.json); without it the built-in Cornell box");
+  reference->add_option("-o,--output", ra.out, "output folder")->capture_default_str();
+  reference->add_option("--spp", ra.spp, "samples per pixel (default 64)");
+  reference->add_option("--time-s", ra.timeS, "instead of --spp: add passes until this many seconds are spent");
+  reference->add_option("--max-depth", ra.maxDepth, "maximum path length in bounces")->capture_default_str();
+  reference->add_option("--threads", ra.threads, "worker threads (default: all cores)");
+  reference->add_option("--seed", ra.seed, "random seed")->capture_default_str();
+  reference->add_flag("--quiet", ra.quiet, "no progress on stderr");
+  CompareArgs ca;
+  auto* compare = app.add_subcommand("compare", "compare image A with reference B (EXR): errors and a difference image");
+  compare->add_option("a", ca.a, "candidate image (.exr)")->required();
+  compare->add_option("b", ca.b, "reference image (.exr)")->required();
+  compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
+  compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
+  compare->add_flag("--json", ca.json, "print the metrics as JSON");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*solve) return runSolve(sa);
     if (*render) return runRender(solPath, camera, image, rquiet);
     if (*lobe) return runLobe(la);
+    if (*reference) return runReference(ra);
+    if (*compare) return runCompare(ca);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

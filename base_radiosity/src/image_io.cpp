@@ -1,4 +1,5 @@
-// EXR (OpenEXR, 32-bit float RGB, linear radiance) and PNG (stb_image_write, sRGB) writers.
+// EXR (OpenEXR, 32-bit float RGB, linear radiance, plus a 32-bit "object_id" channel when known, so
+// that comparisons can be masked by object) and PNG (stb_image_write, sRGB) writers.
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -17,11 +18,16 @@ void writeExr(const Image& img, const std::string& path) {
     Imf::Header header(img.width, img.height);
     const char* names[3] = {"R", "G", "B"};
     for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+    const bool ids = img.objectId.size() == std::size_t(img.width) * img.height;
+    if (ids) header.channels().insert("object_id", Imf::Channel(Imf::UINT));
     Imf::OutputFile file(tmp.c_str(), header);
     Imf::FrameBuffer fb;
     for (int c = 0; c < 3; ++c)
       fb.insert(names[c], Imf::Slice(Imf::FLOAT, (char*)(img.rgb.data() + c), 3 * sizeof(float),
                                      3 * sizeof(float) * img.width));
+    if (ids)
+      fb.insert("object_id", Imf::Slice(Imf::UINT, (char*)img.objectId.data(), sizeof(std::uint32_t),
+                                        sizeof(std::uint32_t) * img.width));
     file.setFrameBuffer(fb);
     file.writePixels(img.height);
   });
@@ -40,12 +46,24 @@ Image readExr(const std::string& path) {
     char* base = (char*)(img.rgb.data()) - (dw.min.x + std::ptrdiff_t(dw.min.y) * img.width) * 3 * sizeof(float);
     for (int c = 0; c < 3; ++c)
       fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), 3 * sizeof(float), 3 * sizeof(float) * img.width));
+    if (file.header().channels().findChannel("object_id")) {
+      img.objectId.assign(std::size_t(img.width) * img.height, kNone);
+      char* ib = (char*)(img.objectId.data()) - (dw.min.x + std::ptrdiff_t(dw.min.y) * img.width) * sizeof(std::uint32_t);
+      fb.insert("object_id", Imf::Slice(Imf::UINT, ib, sizeof(std::uint32_t), sizeof(std::uint32_t) * img.width));
+    }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read EXR: " + e.what());
   }
   return img;
+}
+
+void writePng8(const std::vector<unsigned char>& rgb, int width, int height, const std::string& path) {
+  writeAtomically(path, [&](const std::string& tmp) {
+    if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3))
+      throw std::runtime_error(path + ": cannot write PNG");
+  });
 }
 
 void writePng(const Image& img, const std::string& path) {
@@ -66,10 +84,7 @@ void writePng(const Image& img, const std::string& path) {
     v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
     px[i] = static_cast<unsigned char>(std::clamp(v * 255.0 + 0.5, 0.0, 255.0));
   }
-  writeAtomically(path, [&](const std::string& tmp) {
-    if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, px.data(), img.width * 3))
-      throw std::runtime_error(path + ": cannot write PNG");
-  });
+  writePng8(px, img.width, img.height, path);
 }
 
 }  // namespace hr

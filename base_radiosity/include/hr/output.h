@@ -23,13 +23,16 @@ struct Image {
 /// the default is the smooth diffuse reconstruction B/pi.
 using DisplayFn = std::function<Rgb(std::uint32_t leaf, const Vec3& hitPoint, const Vec3& toEye)>;
 
-/// Casts one primary ray per pixel centre through Embree and shades from the stored solution.
-Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr);
+/// Casts samplesPerAxis^2 primary rays per pixel (a regular grid) through Embree and shades from the
+/// stored solution; pixels hold averages (W/(m^2 sr)), object ids come from the pixel centre.
+Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr, int samplesPerAxis = 3);
 void writeExr(const Image& img, const std::string& path);
 Image readExr(const std::string& path);
 /// sRGB PNG, tone-mapped by a global exposure (key 0.18 over the log-average luminance) and
 /// Reinhard's x/(1+x): see README "Outputs".
 void writePng(const Image& img, const std::string& path);
+/// 8-bit RGB pixels as they are (no tone mapping): false-colour images.
+void writePng8(const std::vector<unsigned char>& rgb, int width, int height, const std::string& path);
 
 /// VTK XML PolyData of the leaf elements (see README "Outputs" for the arrays).
 void writeVtp(const Solution& s, const std::string& path);

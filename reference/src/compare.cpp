@@ -1,0 +1,78 @@
+// Comparison metrics and the false-colour difference image.
+#include <ref/compare.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace ref {
+
+namespace {
+
+bool selected(const hr::Image& img, std::size_t i, long mask) {
+  return mask < 0 || img.objectId[i] == static_cast<std::uint32_t>(mask);
+}
+
+double lum(const hr::Image& img, std::size_t i) {
+  return hr::luminance(hr::Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]));
+}
+
+void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+  if (a.width != b.width || a.height != b.height)
+    throw hr::InputError(nameA + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + " but " + nameB +
+                         " is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ": images must have the same size");
+  if (mask >= 0 && a.objectId.size() != std::size_t(a.width) * a.height)
+    throw hr::InputError("--mask: " + nameA + " has no object_id channel");
+}
+
+}  // namespace
+
+Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+  checkPair(a, b, mask, nameA, nameB);
+  const std::size_t P = std::size_t(a.width) * a.height;
+  Metrics m;
+  double se = 0.0, sae = 0.0;
+  for (std::size_t i = 0; i < P; ++i) {
+    if (!selected(a, i, mask)) continue;
+    double va = lum(a, i), vb = lum(b, i);
+    ++m.pixels;
+    m.meanA += va, m.meanB += vb;
+    se += (va - vb) * (va - vb);
+    sae += std::abs(va - vb);
+    m.maxAbsError = std::max(m.maxAbsError, std::abs(va - vb));
+  }
+  if (m.pixels == 0) throw hr::InputError("--mask: no pixel of object " + std::to_string(mask) + " in " + nameA);
+  m.meanA /= double(m.pixels), m.meanB /= double(m.pixels);
+  m.meanAbsError = sae / double(m.pixels);
+  m.relRmse = m.meanB > 0.0 ? std::sqrt(se / double(m.pixels)) / m.meanB : 0.0;
+  m.meanRatio = m.meanB > 0.0 ? m.meanA / m.meanB : 0.0;
+  double rel = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < P; ++i) {
+    if (!selected(a, i, mask)) continue;
+    double vb = lum(b, i);
+    if (vb <= 1e-3 * m.meanB) continue;
+    rel += std::abs(lum(a, i) - vb) / vb;
+    ++n;
+  }
+  m.meanRelError = n ? rel / double(n) : 0.0;
+  return m;
+}
+
+void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range) {
+  Metrics m = compare(a, b, mask);
+  const std::size_t P = std::size_t(a.width) * a.height;
+  std::vector<unsigned char> px(3 * P, 128);
+  for (std::size_t i = 0; i < P; ++i) {
+    if (!selected(a, i, mask)) continue;
+    double t = m.meanB > 0.0 ? std::clamp((lum(a, i) - lum(b, i)) / (m.meanB * range), -1.0, 1.0) : 0.0;
+    // White at 0, towards red (A brighter) or blue (A darker).
+    double r = t < 0.0 ? 1.0 + t : 1.0, g = 1.0 - std::abs(t), bl = t > 0.0 ? 1.0 - t : 1.0;
+    px[3 * i] = static_cast<unsigned char>(255.0 * r + 0.5);
+    px[3 * i + 1] = static_cast<unsigned char>(255.0 * g + 0.5);
+    px[3 * i + 2] = static_cast<unsigned char>(255.0 * bl + 0.5);
+  }
+  hr::writePng8(px, a.width, a.height, path);
+}
+
+}  // namespace ref

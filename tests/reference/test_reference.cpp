@@ -1,0 +1,206 @@
+// The reference path tracer against closed forms (white furnace, one-bounce point radiance), against
+// theory's bounds where no closed form exists (a glossy furnace), against the radiosity solver on a
+// diffuse scene, and against itself: its noise estimate must predict the difference of two seeds, and
+// a seed fixes the image whatever the thread count. Also the comparison metrics and the CLI's errors.
+#include <gtest/gtest.h>
+#include <hr/kernel.h>
+#include <ref/compare.h>
+#include <ref/path_tracer.h>
+#include <tbb/global_control.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "../helpers.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using hr::Rgb;
+using hr::Vec3;
+
+struct Traced {
+  hr::Scene scene;
+  std::unique_ptr<ref::PathTracer> pt;
+};
+
+Traced load(const std::string& json) {
+  Traced s;
+  s.scene = hr::parseScene(json, "test.json");
+  hr::TessellationReport rep;
+  s.pt = std::make_unique<ref::PathTracer>(s.scene, hr::buildPatches(s.scene, rep));
+  return s;
+}
+
+std::string furnace(const std::string& material) {
+  return R"({ "materials": { "g": )" + material + R"( },
+    "objects": [ { "type": "box", "material": "g", "min": [0,0,0], "max": [1,1,1], "facing": "inward" } ],
+    "cameras": [ { "name": "in", "eye": [0.5,0.5,0.5], "look_at": [0.1,0.3,0.0], "fov_y_deg": 100, "width": 24, "height": 24 } ] })";
+}
+
+TEST(Reference, DiffuseFurnaceIsLeOverOneMinusRho) {
+  Traced s = load(furnace(R"({ "diffuse": [0.5,0.5,0.5], "emission": [1,1,1] })"));
+  ref::Options o;
+  o.spp = 64;
+  ref::CameraResult r = s.pt->render(s.scene.cameras[0], o);
+  EXPECT_NEAR(r.meanLuminance / 2.0, 1.0, 0.01) << "L = Le / (1 - rho) = 2 W/(m^2 sr)";
+  EXPECT_LT(r.relStdError, 0.003);
+  EXPECT_EQ(r.nonFinite, 0u);
+}
+
+TEST(Reference, GlossyFurnaceStaysWithinTheoryBounds) {
+  // No closed form: with a directional albedo a(w) the furnace radiance lies between
+  // Le / (1 - min a) and Le / (1 - max a); max a = rho_d + rho_s at normal incidence, min a at grazing.
+  glossy::Brdf b = glossy::ModifiedPhong{Rgb(0.2), Rgb(0.3), 10.0};
+  const Vec3 n(0, 0, 1);
+  double aMax = glossy::albedo(b, n, n).x, aMin = glossy::albedo(b, glm::normalize(Vec3(1, 0, 1e-3)), n).x;
+  ASSERT_NEAR(aMax, 0.5, 1e-3);
+  Traced s = load(furnace(R"({ "diffuse": [0.2,0.2,0.2], "specular": [0.3,0.3,0.3], "exponent": 10, "emission": [1,1,1] })"));
+  ref::Options o;
+  o.spp = 64;
+  ref::CameraResult r = s.pt->render(s.scene.cameras[0], o);
+  double lo = 1.0 / (1.0 - aMin), hi = 1.0 / (1.0 - aMax);
+  std::printf("glossy furnace: mean %.4f W/(m^2 sr), bounds [%.4f, %.4f]\n", r.meanLuminance, lo, hi);
+  EXPECT_GT(r.meanLuminance, lo);
+  EXPECT_LT(r.meanLuminance, hi);
+  for (std::size_t i = 0; i < r.image.rgb.size(); i += 3) {
+    double sigma = std::sqrt(r.variance[i + 1]);
+    ASSERT_GT(r.image.rgb[i + 1], lo - 4.0 * sigma);
+    ASSERT_LT(r.image.rgb[i + 1], hi + 4.0 * sigma);
+  }
+}
+
+TEST(Reference, OneBounceRadianceMatchesThePointFormFactor) {
+  // Receiver (rho 0.8) under a unit emitter (Le = 1, rho 0) at distance 1: at a receiver point x,
+  // L = rho Le F(x -> emitter), with F the exact point-to-polygon form factor.
+  Traced s = load(testutil::kParallelPlates);
+  const auto& emitter = s.pt->patches()[0];
+  for (Vec3 x : {Vec3(0.5, 0.5, 0), Vec3(0.1, 0.2, 0), Vec3(0.9, 0.95, 0)}) {
+    double F = hr::pointPolygonFormFactor(x, Vec3(0, 0, 1), emitter.poly, emitter.normal);
+    Vec3 org = x + Vec3(0.05, -0.03, 0.2);
+    Vec3 dir = glm::normalize(x - org);
+    const int N = 40000;
+    double sum = 0.0;
+    for (int k = 0; k < N; ++k) {
+      hr::Rng rng(9, std::uint64_t(k), std::uint64_t(x.x * 1000));
+      sum += s.pt->radiance(org, dir, rng, 16).y;
+    }
+    EXPECT_NEAR(sum / N / (0.8 * F), 1.0, 0.01) << "at " << x.x << "," << x.y;
+  }
+}
+
+TEST(Reference, AgreesWithTheRadiositySolverOnADiffuseScene) {
+  hr::Scene scene = hr::defaultScene();
+  hr::Camera cam = scene.cameras[0];
+  cam.width = cam.height = 64;
+  hr::SolverOptions so = hr::SolverOptions::from(scene.settings);
+  auto solved = testutil::solveText(hr::kDefaultSceneJson, so);
+  hr::Solution sol = hr::makeSolution(solved.scene, *solved.h, solved.solver->radiosity());
+  hr::Image radiosity = hr::render(sol, cam);
+  Traced s = load(hr::kDefaultSceneJson);
+  ref::Options o;
+  o.spp = 128;
+  ref::CameraResult r = s.pt->render(cam, o);
+  ref::Metrics m = ref::compare(radiosity, r.image), wall = ref::compare(radiosity, r.image, 2);
+  std::printf("radiosity (eps %.0e) against the reference (%d spp, +-%.2f %% on the mean): mean ratio %.4f, rel RMSE %.3f"
+              " (back wall only: ratio %.4f, rel RMSE %.3f)\n",
+              so.eps, r.spp, 100.0 * r.relStdError, m.meanRatio, m.relRmse, wall.meanRatio, wall.relRmse);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+}
+
+TEST(Reference, NoiseEstimatePredictsTheDifferenceOfTwoSeeds) {
+  Traced s = load(hr::kDefaultSceneJson);
+  hr::Camera cam = s.scene.cameras[0];
+  cam.width = cam.height = 32;
+  ref::Options o;
+  o.spp = 64;
+  o.seed = 1;
+  ref::CameraResult a = s.pt->render(cam, o);
+  o.seed = 2;
+  ref::CameraResult b = s.pt->render(cam, o);
+  // Summed over pixels, (a - b)^2 and var_a + var_b agree when the variance estimates are honest (a
+  // ratio of sums: the mean of per-pixel ratios is biased upward by noisy 64-sample variances).
+  double d2 = 0.0, v = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 1; i < a.image.rgb.size(); i += 3) {
+    double d = a.image.rgb[i] - b.image.rgb[i];
+    d2 += d * d;
+    v += a.variance[i] + b.variance[i];
+    ++n;
+  }
+  double z2 = d2 / v;
+  double dz = (a.meanLuminance - b.meanLuminance) /
+              std::hypot(a.relStdError * a.meanLuminance, b.relStdError * b.meanLuminance);
+  std::printf("mean normalised squared difference %.3f over %zu pixels; image means differ by %.2f sigma\n", z2, n, dz);
+  EXPECT_NEAR(z2, 1.0, 0.15);
+  EXPECT_LT(std::abs(dz), 4.0);
+}
+
+TEST(Reference, SeedFixesTheImageWhateverTheThreadCount) {
+  Traced s = load(hr::kDefaultSceneJson);
+  hr::Camera cam = s.scene.cameras[0];
+  cam.width = cam.height = 24;
+  ref::Options o;
+  o.spp = 8;
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    return s.pt->render(cam, o).image.rgb;
+  };
+  auto one = run(1), two = run(2);
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(float)), 0);
+}
+
+TEST(Compare, MetricsOnKnownImages) {
+  hr::Image b;
+  b.width = 4, b.height = 2;
+  b.rgb.assign(24, 1.0f);
+  b.objectId = {0, 0, 0, 0, 1, 1, 1, 1};
+  hr::Image a = b;
+  ref::Metrics same = ref::compare(a, b);
+  EXPECT_EQ(same.relRmse, 0.0);
+  EXPECT_EQ(same.meanRatio, 1.0);
+  for (std::size_t i = 12; i < 24; ++i) a.rgb[i] = 1.5f;  // object 1 is 50 % brighter
+  ref::Metrics m = ref::compare(a, b);
+  EXPECT_NEAR(m.meanRatio, 1.25, 1e-6);
+  EXPECT_NEAR(m.relRmse, std::sqrt(0.5 * 0.25), 1e-6);
+  EXPECT_NEAR(m.meanRelError, 0.25, 1e-6);
+  EXPECT_NEAR(m.maxAbsError, 0.5, 1e-6);
+  EXPECT_NEAR(ref::compare(a, b, 1).meanRatio, 1.5, 1e-6);
+  EXPECT_NEAR(ref::compare(a, b, 0).relRmse, 0.0, 1e-12);
+  hr::Image small = b;
+  small.width = 2;
+  EXPECT_THROW(ref::compare(small, b), hr::InputError);
+  hr::Image noIds = b;
+  noIds.objectId.clear();
+  EXPECT_THROW(ref::compare(noIds, b, 1), hr::InputError);
+  EXPECT_THROW(ref::compare(a, b, 7), hr::InputError) << "no pixel of object 7";
+}
+
+TEST(ReferenceCli, BadInputIsRefusedAndNothingWritten) {
+  fs::path out = fs::temp_directory_path() / "ghr_ref_cli";
+  fs::remove_all(out);
+  std::string text;
+  EXPECT_NE(testutil::runCli("reference -o " + out.string() + " --spp 4 --time-s 1", text), 0);
+  EXPECT_NE(text.find("alternatives"), std::string::npos) << text;
+  EXPECT_NE(testutil::runCli("reference -o " + out.string() + " --spp 0", text), 0);
+  EXPECT_NE(text.find("--spp"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(out));
+  // Two EXRs of different sizes.
+  hr::Image a, b;
+  a.width = a.height = 2;
+  a.rgb.assign(12, 1.0f);
+  b.width = 3, b.height = 2;
+  b.rgb.assign(18, 1.0f);
+  fs::create_directories(out);
+  hr::writeExr(a, (out / "a.exr").string());
+  hr::writeExr(b, (out / "b.exr").string());
+  EXPECT_NE(testutil::runCli("compare " + (out / "a.exr").string() + " " + (out / "b.exr").string() + " -o " +
+                                 (out / "d.png").string(), text), 0);
+  EXPECT_NE(text.find("same size"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(out / "d.png"));
+  fs::remove_all(out);
+}
+
+}  // namespace
