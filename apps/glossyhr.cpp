@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "info_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
 #include "registry.h"
@@ -47,6 +48,7 @@ int runSolve(const SolveArgs& a) {
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
   const auto& entry = adapters::findExtension(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
   if (a.eps > 0) opt.eps = a.eps;
@@ -199,6 +201,11 @@ int main(int argc, char** argv) {
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
+  std::string infoScene;
+  bool infoJson = false;
+  auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
+  info->add_option("scene", infoScene, "scene file (.json or .mgf)")->required();
+  info->add_flag("--json", infoJson, "print the report as JSON");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*solve) return runSolve(sa);
@@ -206,6 +213,7 @@ int main(int argc, char** argv) {
     if (*lobe) return runLobe(la);
     if (*reference) return runReference(ra);
     if (*compare) return runCompare(ca);
+    if (*info) return runInfo(infoScene, infoJson);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

@@ -1,5 +1,6 @@
 // JSON scene reader. Validation lives here so that every later stage can trust the scene: each
 // error names the file and the JSON path of the offending key; unknown keys become warnings.
+#include <hr/mgf.h>
 #include <hr/scene.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -186,7 +187,7 @@ Object readObject(Reader& r, const json& o, const std::string& key, const Scene&
     ob.file = (dir / r.string(r.member(o, key, "file"), key + ".file")).string();
   } else {
     r.fail(key + ".type",
-           "unknown object type \"" + type + "\" (valid: quad, box, disk, sphere, cylinder, mesh)");
+           "unknown object type \"" + type + "\" (valid: quad, box, disk, sphere, cylinder, mesh, mgf)");
   }
   return ob;
 }
@@ -259,8 +260,19 @@ Scene parseScene(const std::string& text, const std::string& path) {
   if (!objs.is_array() || objs.empty()) r.fail("objects", "expected a non-empty array");
   std::filesystem::path dir = path.empty() ? std::filesystem::current_path()
                                            : std::filesystem::path(path).parent_path();
-  for (std::size_t i = 0; i < objs.size(); ++i)
-    s.objects.push_back(readObject(r, objs[i], "objects[" + std::to_string(i) + "]", s, dir));
+  for (std::size_t i = 0; i < objs.size(); ++i) {
+    const std::string key = "objects[" + std::to_string(i) + "]";
+    if (objs[i].is_object() && objs[i].contains("type") && objs[i]["type"] == "mgf") {
+      // An MGF file as one object: its geometry and materials join the scene, under the transform.
+      r.checkKeys(objs[i], key, {"type", "file", "transform"});
+      std::string file = (dir / r.string(r.member(objs[i], key, "file"), key + ".file")).string();
+      Transform t;
+      if (objs[i].contains("transform")) t = readTransform(r, objs[i]["transform"], key + ".transform");
+      readMgf(file, s, t.matrix(), r.file() + ": " + key + ": ");
+      continue;
+    }
+    s.objects.push_back(readObject(r, objs[i], key, s, dir));
+  }
   if (j.contains("cameras")) {
     const json& cams = j["cameras"];
     if (!cams.is_array()) r.fail("cameras", "expected an array");
@@ -277,6 +289,7 @@ Scene parseScene(const std::string& text, const std::string& path) {
 }
 
 Scene loadScene(const std::string& path) {
+  if (std::filesystem::path(path).extension() == ".mgf") return loadMgfScene(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open scene file");
   std::stringstream ss;
@@ -284,7 +297,22 @@ Scene loadScene(const std::string& path) {
   return parseScene(ss.str(), path);
 }
 
+const char* primitiveName(PrimitiveType t) {
+  switch (t) {
+    case PrimitiveType::Quad: return "quad";
+    case PrimitiveType::Box: return "box";
+    case PrimitiveType::Disk: return "disk";
+    case PrimitiveType::Sphere: return "sphere";
+    case PrimitiveType::Cylinder: return "cylinder";
+    case PrimitiveType::Cone: return "cone";
+    case PrimitiveType::Ring: return "ring";
+    case PrimitiveType::Polygon: return "polygon";
+    default: return "mesh";
+  }
+}
+
 glm::dmat4 Transform::matrix() const {
+  if (explicitMatrix) return *explicitMatrix;
   glm::dmat4 m(1.0);
   m = glm::translate(m, translate);
   m = glm::rotate(m, glm::radians(rotateDeg.z), Vec3(0, 0, 1));

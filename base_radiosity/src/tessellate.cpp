@@ -6,6 +6,7 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hr {
@@ -63,25 +64,64 @@ void buildSphere(MeshBuilder& b, const Object& o, int seg) {
     for (int i = 0; i < seg; ++i) rings[s - 1].push_back(b.vertex(at(kPi * s / stacks, 2.0 * kPi * i / seg)));
   for (int i = 0; i < seg; ++i) {
     int j = (i + 1) % seg;
+    if (o.inward) std::swap(i, j);  // reversed winding: the surface faces its centre
     b.face({top, rings[0][i], rings[0][j]});
     for (int s = 0; s + 1 < stacks - 1; ++s) b.face({rings[s][i], rings[s + 1][i], rings[s + 1][j], rings[s][j]});
     b.face({bottom, rings[stacks - 2][j], rings[stacks - 2][i]});
+    if (o.inward) std::swap(i, j);
   }
 }
 
-void buildCylinder(MeshBuilder& b, const Object& o, int seg) {
+/// An open cone frustum (a cylinder when both radii agree) from base to base + height * axis, radius
+/// at the base and radius2 at the top; a zero radius closes it to an apex. Outward unless inward.
+void buildFrustum(MeshBuilder& b, const Object& o, double r0, double r1, int seg) {
   Vec3 w = glm::normalize(o.axis), u, v;
   frame(w, u, v);
   std::vector<PolyMesh::VertexHandle> lo, hi;
+  auto ring = [&](std::vector<PolyMesh::VertexHandle>& out, const Vec3& c, double r) {
+    if (r == 0.0) {
+      out.assign(std::size_t(seg), b.vertex(c));
+      return;
+    }
+    for (int i = 0; i < seg; ++i) {
+      double t = 2.0 * kPi * i / seg;
+      out.push_back(b.vertex(c + r * (std::cos(t) * u + std::sin(t) * v)));
+    }
+  };
+  ring(lo, o.base, r0);
+  ring(hi, o.base + o.height * w, r1);
+  for (int i = 0; i < seg; ++i) {
+    int j = (i + 1) % seg;
+    int a = o.inward ? j : i, c = o.inward ? i : j;
+    if (r1 == 0.0)
+      b.face({lo[a], lo[c], hi[0]});
+    else if (r0 == 0.0)
+      b.face({lo[0], hi[c], hi[a]});
+    else
+      b.face({lo[a], lo[c], hi[c], hi[a]});
+  }
+}
+
+/// A flat annulus (a disk when the inner radius is 0) facing along normal.
+void buildRing(MeshBuilder& b, const Object& o, int seg) {
+  if (o.radius == 0.0) {
+    Object d = o;
+    d.radius = o.radius2;
+    buildDisk(b, d, seg);
+    return;
+  }
+  Vec3 w = glm::normalize(o.normal), u, v;
+  frame(w, u, v);
+  std::vector<PolyMesh::VertexHandle> in, out;
   for (int i = 0; i < seg; ++i) {
     double t = 2.0 * kPi * i / seg;
-    Vec3 r = o.radius * (std::cos(t) * u + std::sin(t) * v);
-    lo.push_back(b.vertex(o.base + r));
-    hi.push_back(b.vertex(o.base + r + o.height * w));
+    Vec3 d = std::cos(t) * u + std::sin(t) * v;
+    in.push_back(b.vertex(o.center + o.radius * d));
+    out.push_back(b.vertex(o.center + o.radius2 * d));
   }
   for (int i = 0; i < seg; ++i) {
     int j = (i + 1) % seg;
-    b.face({lo[i], lo[j], hi[j], hi[i]});  // outward-facing open tube
+    b.face({in[i], out[i], out[j], in[j]});
   }
 }
 
@@ -140,10 +180,12 @@ class PatchSink {
   double tol_;
 };
 
-void emitMesh(const PolyMesh& m, const glm::dmat4& xf, PatchSink& sink, std::uint32_t mat, std::uint32_t obj) {
+void emitMesh(const PolyMesh& m, const glm::dmat4& xf, bool mirrored, PatchSink& sink, std::uint32_t mat,
+              std::uint32_t obj) {
   for (auto fh : m.faces()) {
     std::vector<Vec3> pts;
     for (auto vh : m.fv_range(fh)) pts.push_back(Vec3(xf * glm::dvec4(toVec(m.point(vh)), 1.0)));
+    if (mirrored) std::reverse(pts.begin(), pts.end());
     if (pts.size() == 3 || pts.size() == 4) {
       Polygon p;
       p.n = static_cast<int>(pts.size());
@@ -151,6 +193,61 @@ void emitMesh(const PolyMesh& m, const glm::dmat4& xf, PatchSink& sink, std::uin
       sink.add(p, mat, obj);
     }
   }
+}
+
+/// Ear clipping in the polygon's plane (Newell normal): handles non-convex polygons and MGF's holes
+/// given as seams (an edge walked in both directions). Quads that are convex stay whole.
+std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
+  std::vector<Polygon> out;
+  // Drop consecutive duplicates (closing vertex repeated, zero-length edges).
+  std::vector<Vec3> p;
+  for (const Vec3& v : pts)
+    if (p.empty() || glm::length(v - p.back()) > 0.0) p.push_back(v);
+  while (p.size() > 1 && glm::length(p.front() - p.back()) == 0.0) p.pop_back();
+  if (p.size() < 3) return out;
+  Vec3 n(0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) n += glm::cross(p[i], p[(i + 1) % p.size()]);
+  double len = glm::length(n);
+  if (len == 0.0) return out;
+  n /= len;
+  if (p.size() == 3) return {Polygon{{p[0], p[1], p[2], Vec3(0.0)}, 3}};
+  auto convexAt = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return glm::dot(glm::cross(b - a, c - b), n) > 0.0; };
+  if (p.size() == 4 && convexAt(p[0], p[1], p[2]) && convexAt(p[1], p[2], p[3]) && convexAt(p[2], p[3], p[0]) &&
+      convexAt(p[3], p[0], p[1]))
+    return {Polygon{{p[0], p[1], p[2], p[3]}, 4}};
+  std::vector<std::size_t> idx(p.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  auto inside = [&](const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Strictly inside: seam vertices lying on an ear's edge do not block it.
+    double e = 1e-12 * len;
+    return glm::dot(glm::cross(b - a, q - a), n) > e && glm::dot(glm::cross(c - b, q - b), n) > e &&
+           glm::dot(glm::cross(a - c, q - c), n) > e;
+  };
+  std::size_t guard = 0;
+  while (idx.size() > 3 && guard < 4 * p.size() * p.size()) {
+    bool clipped = false;
+    for (std::size_t k = 0; k < idx.size(); ++k, ++guard) {
+      const Vec3 &a = p[idx[(k + idx.size() - 1) % idx.size()]], &b = p[idx[k]], &c = p[idx[(k + 1) % idx.size()]];
+      if (!convexAt(a, b, c)) continue;
+      bool ear = true;
+      for (std::size_t m : idx) {
+        const Vec3& q = p[m];
+        if (q == a || q == b || q == c) continue;
+        if (inside(q, a, b, c)) {
+          ear = false;
+          break;
+        }
+      }
+      if (!ear) continue;
+      out.push_back(Polygon{{a, b, c, Vec3(0.0)}, 3});
+      idx.erase(idx.begin() + std::ptrdiff_t(k));
+      clipped = true;
+      break;
+    }
+    if (!clipped) break;  // degenerate remainder (collinear vertices): nothing left with area
+  }
+  if (idx.size() == 3) out.push_back(Polygon{{p[idx[0]], p[idx[1]], p[idx[2]], Vec3(0.0)}, 3});
+  return out;
 }
 
 }  // namespace
@@ -162,6 +259,8 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& o = scene.objects[oi];
     glm::dmat4 xf = o.transform.matrix();
+    // A mirroring transform would turn every face inside out: keep the declared facing.
+    const bool mirrored = glm::determinant(glm::dmat3(xf)) < 0.0;
     std::uint32_t mat = o.material.empty() ? kNone : scene.materialIndex.at(o.material);
     if (o.type == PrimitiveType::Mesh) {
       MeshData md;
@@ -195,6 +294,15 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
       }
       continue;
     }
+    if (o.type == PrimitiveType::Polygon) {
+      std::vector<Vec3> pts;
+      for (const Vec3& p : o.points) pts.push_back(Vec3(xf * glm::dvec4(p, 1.0)));
+      if (mirrored) std::reverse(pts.begin(), pts.end());
+      std::size_t before = patches.size();
+      for (const Polygon& t : triangulate(pts)) sink.add(t, mat, oi);
+      if (patches.size() == before) throw InputError(o.where + ": polygon has zero area (zero-size primitive)");
+      continue;
+    }
     if (o.type == PrimitiveType::Quad) {
       Polygon p{{o.quad[0], o.quad[1], o.quad[2], o.quad[3]}, 4};
       for (int i = 0; i < 4; ++i) p.v[i] = Vec3(xf * glm::dvec4(p.v[i], 1.0));
@@ -216,11 +324,13 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
       case PrimitiveType::Box: buildBox(b, o); break;
       case PrimitiveType::Disk: buildDisk(b, o, seg); break;
       case PrimitiveType::Sphere: buildSphere(b, o, seg); break;
-      case PrimitiveType::Cylinder: buildCylinder(b, o, seg); break;
+      case PrimitiveType::Cylinder: buildFrustum(b, o, o.radius, o.radius, seg); break;
+      case PrimitiveType::Cone: buildFrustum(b, o, o.radius, o.radius2, seg); break;
+      case PrimitiveType::Ring: buildRing(b, o, seg); break;
       default: break;
     }
     std::size_t before = patches.size();
-    emitMesh(b.mesh(), xf, sink, mat, oi);
+    emitMesh(b.mesh(), xf, mirrored, sink, mat, oi);
     if (patches.size() == before)
       throw InputError(o.where + ": every face is degenerate after the transform (zero-size primitive)");
   }

@@ -28,10 +28,14 @@ struct Transform {
   Vec3 translate{0.0};
   Vec3 rotateDeg{0.0};  // applied X, then Y, then Z
   Vec3 scale{1.0};
+  std::optional<glm::dmat4> explicitMatrix;  // MGF transforms compose arbitrarily; used when set
   glm::dmat4 matrix() const;
 };
 
-enum class PrimitiveType { Quad, Box, Disk, Sphere, Cylinder, Mesh };
+/// Curved primitives stay whole here (a host that does not tessellate can keep them); the
+/// BRIGHT-like host tessellates them at load (settings.tessellation segments around).
+enum class PrimitiveType { Quad, Box, Disk, Sphere, Cylinder, Cone, Ring, Polygon, Mesh };
+const char* primitiveName(PrimitiveType t);
 
 struct Object {
   PrimitiveType type = PrimitiveType::Quad;
@@ -42,6 +46,9 @@ struct Object {
   bool inward = false;
   Vec3 center{0.0}, normal{0.0, 0.0, 1.0}, axis{0.0, 0.0, 1.0}, base{0.0};
   double radius = 0.0, height = 0.0;
+  double radius2 = 0.0;       // cone: radius at base + height * axis; ring: outer radius
+  std::vector<Vec3> points;   // polygon: any simple planar polygon, MGF seams for holes allowed
+  std::string group;          // MGF object context ("o" names, joined by "/"), for reports
   std::string file;  // mesh file, resolved against the scene's folder
   Transform transform;
 };
@@ -74,6 +81,8 @@ struct Scene {
   std::vector<Camera> cameras;
   Settings settings;
   std::vector<std::string> warnings;  // unknown keys etc.; printed by the caller
+  std::vector<std::string> dropped;   // what an importer dropped or approximated, one line each
+  std::map<std::string, std::size_t> entityCounts;  // importer's source entities ("mgf cone": 461)
 };
 
 /// Parses and validates a JSON scene. Throws InputError naming the file and key on any problem.

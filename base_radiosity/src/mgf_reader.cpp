@@ -1,0 +1,637 @@
+// The MGF reader: contexts (vertex, colour, material, transform, object), includes, transform arrays,
+// and the geometric entities. Vertices are transformed at use, not at definition (as the format
+// says); materials are snapshotted into scene materials when geometry uses them, so a material
+// changed later gives later geometry a new scene material. See docs/mgf.md for the conversions.
+#include <hr/mgf.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace hr {
+
+namespace fs = std::filesystem;
+
+Vec3 cieToRgbUnclipped(double x, double y, double Y);
+
+namespace {
+
+constexpr double kWhiteEfficacy = 179.0;  // lm/W, Radiance's and RenderPark's white light
+constexpr double kMaxExponent = 10000.0;  // Phong exponent for a perfect mirror (alpha = 0)
+
+struct Colour {
+  double x = 1.0 / 3.0, y = 1.0 / 3.0;
+};
+
+struct MgfMaterial {
+  int sides = 2;
+  double rd = 0, td = 0, ed = 0, rs = 0, rsAlpha = 0, ts = 0, tsAlpha = 0;
+  Colour cd, ctd, ced, crs, cts;
+  int version = 0;
+};
+
+struct Vertex {
+  Vec3 p{0.0}, n{0.0};
+};
+
+struct Line {
+  std::size_t number;
+  std::vector<std::string> tok;
+};
+
+class MgfReader {
+ public:
+  MgfReader(Scene& s, const glm::dmat4& base, const std::string& where) : scene_(s), base_(base), where_(where) {}
+
+  void readFile(const std::string& path, const glm::dmat4& xf) {
+    std::string canon = fs::weakly_canonical(fs::path(path)).string();
+    if (std::find(files_.begin(), files_.end(), canon) != files_.end())
+      throw InputError(where_ + path + ": recursive include");
+    std::ifstream in(path);
+    if (!in) throw InputError(where_ + path + ": cannot open MGF file");
+    std::vector<Line> lines;
+    std::string text, acc;
+    std::size_t n = 0, start = 0;
+    while (std::getline(in, text)) {
+      ++n;
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      if (acc.empty()) start = n;
+      if (!text.empty() && text.back() == '\\') {  // continuation
+        acc += text.substr(0, text.size() - 1) + " ";
+        continue;
+      }
+      acc += text;
+      std::istringstream ss(acc);
+      Line l{start, {}};
+      for (std::string t; ss >> t;) l.tok.push_back(t);
+      acc.clear();
+      if (l.tok.empty() || l.tok[0][0] == '#') continue;
+      lines.push_back(std::move(l));
+    }
+    files_.push_back(canon);
+    paths_.push_back(path);
+    xf_.push_back(xf);
+    std::size_t depth = xf_.size();
+    run(lines, 0, lines.size());
+    if (xf_.size() != depth)
+      throw InputError(where_ + path + ": end of file inside an xf context (" + std::to_string(xf_.size() - depth) +
+                       " unmatched xf)");
+    xf_.pop_back();
+    paths_.pop_back();
+    files_.pop_back();
+  }
+
+  void finish() {
+    auto list = [](const std::set<std::string>& s) {
+      std::string r;
+      for (const auto& n : s) r += (r.empty() ? "" : ", ") + n;
+      return r;
+    };
+    if (!transmissive_.empty())
+      scene_.dropped.push_back("transmission (td, ts) not simulated, dropped for " + list(transmissive_) +
+                               "; largest transmitted fraction " + fmt(maxTransmitted_));
+    if (!mirrors_.empty())
+      scene_.dropped.push_back("perfect mirrors (rs roughness 0) approximated by Phong exponent " + fmt(kMaxExponent) +
+                               ": " + list(mirrors_));
+    if (!gaining_.empty())
+      scene_.dropped.push_back("materials whose rd + td + rs + ts exceeds 1 (energy-gaining) scaled to 1: " +
+                               list(gaining_));
+    if (!scaled_.empty())
+      scene_.dropped.push_back("colours whose RGB reflectance exceeded 1 in a channel scaled to 1: " + list(scaled_));
+    if (!clipped_.empty()) scene_.dropped.push_back("out-of-gamut colours clipped to Rec. 709: " + list(clipped_));
+    if (spectra_ > 0)
+      scene_.dropped.push_back(std::to_string(spectra_) + " cspec spectra not converted (colour kept neutral)");
+    if (ignored_ > 0)
+      scene_.dropped.push_back(std::to_string(ignored_) + " entities without effect here ignored (ir, ies)");
+    if (twoSided_ > 0)
+      scene_.dropped.push_back(std::to_string(twoSided_) +
+                               " two-sided open surfaces (sides 2) kept one-sided, front by the right-hand rule");
+  }
+
+ private:
+  // ---- errors and numbers --------------------------------------------------------------------
+  [[noreturn]] void fail(const Line& l, const std::string& msg) const {
+    throw InputError(where_ + paths_.back() + ": line " + std::to_string(l.number) + ": " + l.tok[0] + ": " + msg);
+  }
+  static std::string fmt(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+  double num(const Line& l, std::size_t i) const {
+    if (i >= l.tok.size()) fail(l, "missing argument " + std::to_string(i));
+    const std::string& t = l.tok[i];
+    char* end = nullptr;
+    double v = std::strtod(t.c_str(), &end);
+    if (end != t.c_str() + t.size() || !std::isfinite(v)) fail(l, "argument " + std::to_string(i) + " \"" + t + "\" is not a finite number");
+    return v;
+  }
+  void arity(const Line& l, std::size_t lo, std::size_t hi) const {
+    std::size_t n = l.tok.size() - 1;
+    if (n < lo || n > hi)
+      fail(l, "expected " + (lo == hi ? std::to_string(lo) : std::to_string(lo) + "-" + std::to_string(hi)) +
+                  " arguments, got " + std::to_string(n));
+  }
+
+  // ---- transforms -------------------------------------------------------------------------------
+  /// Parses transform arguments [from, to): the transforms apply in the order given.
+  glm::dmat4 xform(const Line& l, std::size_t from, std::size_t to) const {
+    glm::dmat4 m(1.0);
+    for (std::size_t i = from; i < to;) {
+      const std::string& a = l.tok[i];
+      glm::dmat4 t(1.0);
+      if (a == "-t") {
+        t = glm::translate(glm::dmat4(1.0), Vec3(num(l, i + 1), num(l, i + 2), num(l, i + 3)));
+        i += 4;
+      } else if (a == "-rx" || a == "-ry" || a == "-rz") {
+        Vec3 axis(a == "-rx", a == "-ry", a == "-rz");
+        t = glm::rotate(glm::dmat4(1.0), glm::radians(num(l, i + 1)), axis);
+        i += 2;
+      } else if (a == "-s") {
+        double s = num(l, i + 1);
+        if (s == 0.0) fail(l, "-s 0 collapses the geometry");
+        t = glm::scale(glm::dmat4(1.0), Vec3(s));
+        i += 2;
+      } else if (a == "-mx" || a == "-my" || a == "-mz") {
+        t = glm::scale(glm::dmat4(1.0), Vec3(a == "-mx" ? -1 : 1, a == "-my" ? -1 : 1, a == "-mz" ? -1 : 1));
+        i += 1;
+      } else if (a == "-i") {
+        // Iterate: the following transforms (up to the next -i or -a) apply N times.
+        int n = static_cast<int>(num(l, i + 1));
+        std::size_t j = i + 2;
+        while (j < to && l.tok[j] != "-i" && l.tok[j] != "-a") ++j;
+        glm::dmat4 once = xform(l, i + 2, j);
+        for (int k = 0; k < n; ++k) t = once * t;
+        i = j;
+      } else {
+        fail(l, "unknown transform argument \"" + a + "\"");
+      }
+      m = t * m;
+    }
+    return m;
+  }
+  glm::dmat4 current() const {
+    glm::dmat4 m = base_;
+    for (const auto& x : xf_) m = m * x;
+    return m;
+  }
+
+  // ---- the entity loop ----------------------------------------------------------------------------
+  void run(const std::vector<Line>& lines, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const Line& l = lines[i];
+      const std::string& k = l.tok[0];
+      if (k == "xf") {
+        if (l.tok.size() == 1) {
+          if (xf_.size() <= depthFloor()) fail(l, "xf end without a matching xf");
+          xf_.pop_back();
+          continue;
+        }
+        auto arr = std::find(l.tok.begin(), l.tok.end(), "-a");
+        if (arr == l.tok.end()) {
+          xf_.push_back(xform(l, 1, l.tok.size()));
+          continue;
+        }
+        // An array: the enclosed lines up to the matching "xf" repeat N times, copy k with the
+        // array's transform applied k times (after the transforms that precede -a).
+        std::size_t j = i + 1;
+        for (int open = 1; j < e; ++j) {
+          if (lines[j].tok[0] != "xf") continue;
+          open += lines[j].tok.size() == 1 ? -1 : 1;
+          if (open == 0) break;
+        }
+        if (j >= e) fail(l, "array without its closing xf");
+        std::size_t at = std::size_t(arr - l.tok.begin());
+        glm::dmat4 pre = xform(l, 1, at);
+        int n = static_cast<int>(num(l, at + 1));
+        if (n < 1) fail(l, "-a needs a count >= 1");
+        glm::dmat4 step = xform(l, at + 2, l.tok.size()), acc(1.0);
+        for (int c = 0; c < n; ++c) {
+          xf_.push_back(acc * pre);
+          std::size_t depth = xf_.size();
+          run(lines, i + 1, j);
+          if (xf_.size() != depth) fail(l, "unbalanced xf inside the array");
+          xf_.pop_back();
+          acc = step * acc;
+        }
+        i = j;
+      } else if (k == "o") {
+        if (l.tok.size() == 1) {
+          if (!groups_.empty()) groups_.pop_back();
+        } else {
+          groups_.push_back(l.tok[1]);
+        }
+      } else if (k == "i") {
+        if (l.tok.size() < 2) fail(l, "missing file name");
+        fs::path f = fs::path(paths_.back()).parent_path() / l.tok[1];
+        readFile(f.string(), xform(l, 2, l.tok.size()));
+      } else if (k == "v") {
+        vertexContext(l);
+      } else if (k == "p" || k == "n") {
+        arity(l, 3, 3);
+        Vec3 v(num(l, 1), num(l, 2), num(l, 3));
+        (k == "p" ? vertex().p : vertex().n) = v;
+      } else if (k == "c" || k == "cxy" || k == "cspec" || k == "cct" || k == "cmix") {
+        colourEntity(l);
+      } else if (k == "m" || k == "sides" || k == "rd" || k == "td" || k == "ed" || k == "rs" || k == "ts") {
+        materialEntity(l);
+      } else if (k == "ir" || k == "ies") {
+        ++ignored_;
+      } else if (k == "f" || k == "sph" || k == "cyl" || k == "cone" || k == "ring" || k == "torus" || k == "prism") {
+        geometry(l);
+      } else {
+        fail(l, "unknown entity (MGF 1.1 entities: # o xf i ies c cxy cspec cct cmix m sides rd td ed rs ts ir v p n "
+                "f sph cyl cone prism ring torus)");
+      }
+    }
+  }
+  std::size_t depthFloor() const { return files_.size(); }  // each file's own xf sits at its base
+
+  // ---- vertices ---------------------------------------------------------------------------------
+  Vertex& vertex() { return curVertex_.empty() ? unnamedVertex_ : vertices_[curVertex_]; }
+  void vertexContext(const Line& l) {
+    if (l.tok.size() == 1) {
+      curVertex_.clear();
+      unnamedVertex_ = Vertex{};
+      return;
+    }
+    const std::string& id = l.tok[1];
+    if (l.tok.size() == 2) {
+      if (!vertices_.count(id)) fail(l, "undefined vertex \"" + id + "\"");
+      curVertex_ = id;
+      return;
+    }
+    if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: v id [= [template]]");
+    Vertex v;
+    if (l.tok.size() == 4) {
+      auto it = vertices_.find(l.tok[3]);
+      if (it == vertices_.end()) fail(l, "undefined template vertex \"" + l.tok[3] + "\"");
+      v = it->second;
+    }
+    vertices_[id] = v;
+    curVertex_ = id;
+  }
+  const Vertex& named(const Line& l, std::size_t i) const {
+    if (i >= l.tok.size()) fail(l, "missing vertex argument");
+    auto it = vertices_.find(l.tok[i]);
+    if (it == vertices_.end()) fail(l, "undefined vertex \"" + l.tok[i] + "\"");
+    return it->second;
+  }
+
+  // ---- colours ----------------------------------------------------------------------------------
+  void colourEntity(const Line& l) {
+    const std::string& k = l.tok[0];
+    if (k == "c") {
+      if (l.tok.size() == 1) {
+        colour_ = Colour{};
+        colourName_.clear();
+        return;
+      }
+      const std::string& id = l.tok[1];
+      if (l.tok.size() == 2) {
+        auto it = colours_.find(id);
+        if (it == colours_.end()) fail(l, "undefined colour \"" + id + "\"");
+        colour_ = it->second;
+        colourName_ = id;
+        return;
+      }
+      if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: c id [= [template]]");
+      Colour c;
+      if (l.tok.size() == 4) {
+        auto it = colours_.find(l.tok[3]);
+        if (it == colours_.end()) fail(l, "undefined template colour \"" + l.tok[3] + "\"");
+        c = it->second;
+      }
+      colours_[id] = c;
+      colour_ = c;
+      colourName_ = id;
+      return;
+    }
+    Colour c = colour_;
+    if (k == "cxy") {
+      arity(l, 2, 2);
+      c.x = num(l, 1), c.y = num(l, 2);
+      if (!(c.x >= 0.0 && c.y > 0.0 && c.x + c.y <= 1.0)) fail(l, "chromaticity outside the CIE triangle");
+    } else if (k == "cct") {
+      arity(l, 1, 1);
+      c = planckian(l, num(l, 1));
+    } else if (k == "cmix") {
+      if (l.tok.size() < 3 || (l.tok.size() - 1) % 2 != 0) fail(l, "expected: cmix w1 c1 w2 c2 ...");
+      double X = 0, Y = 0, Z = 0;
+      for (std::size_t i = 1; i + 1 < l.tok.size(); i += 2) {
+        double w = num(l, i);
+        auto it = colours_.find(l.tok[i + 1]);
+        if (it == colours_.end()) fail(l, "undefined colour \"" + l.tok[i + 1] + "\"");
+        const Colour& m = it->second;
+        X += w * m.x / m.y, Y += w, Z += w * (1.0 - m.x - m.y) / m.y;
+      }
+      if (!(X + Y + Z > 0.0)) fail(l, "weights sum to nothing");
+      c.x = X / (X + Y + Z), c.y = Y / (X + Y + Z);
+    } else {  // cspec: needs the CIE matching functions; reported, colour unchanged
+      ++spectra_;
+    }
+    colour_ = c;
+    if (!colourName_.empty() && colours_.count(colourName_)) colours_[colourName_] = c;
+  }
+  Colour planckian(const Line& l, double T) const {
+    // Kim et al. (2002) cubic fit of the Planckian locus, 1667 K to 25000 K.
+    if (!(T >= 1667.0 && T <= 25000.0)) fail(l, "colour temperature outside 1667-25000 K");
+    double t = 1e3 / T, x;
+    if (T <= 4000.0)
+      x = -0.2661239 * t * t * t - 0.2343589 * t * t + 0.8776956 * t + 0.179910;
+    else
+      x = -3.0258469 * t * t * t + 2.1070379 * t * t + 0.2226347 * t + 0.240390;
+    double y;
+    if (T <= 2222.0)
+      y = -1.1063814 * x * x * x - 1.34811020 * x * x + 2.18555832 * x - 0.20219683;
+    else if (T <= 4000.0)
+      y = -0.9549476 * x * x * x - 1.37418593 * x * x + 2.09137015 * x - 0.16748867;
+    else
+      y = 3.0817580 * x * x * x - 5.87338670 * x * x + 3.75112997 * x - 0.37001483;
+    return {x, y};
+  }
+
+  // ---- materials ----------------------------------------------------------------------------------
+  MgfMaterial& material() { return curMaterial_.empty() ? unnamedMaterial_ : materials_[curMaterial_]; }
+  void materialEntity(const Line& l) {
+    const std::string& k = l.tok[0];
+    if (k == "m") {
+      if (l.tok.size() == 1) {
+        curMaterial_.clear();
+        unnamedMaterial_ = MgfMaterial{};
+        unnamedMaterial_.version = ++unnamedVersions_;
+        return;
+      }
+      const std::string& id = l.tok[1];
+      if (l.tok.size() == 2) {
+        if (!materials_.count(id)) fail(l, "undefined material \"" + id + "\"");
+        curMaterial_ = id;
+        return;
+      }
+      if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: m id [= [template]]");
+      MgfMaterial m;
+      if (l.tok.size() == 4) {
+        auto it = materials_.find(l.tok[3]);
+        if (it == materials_.end()) fail(l, "undefined template material \"" + l.tok[3] + "\"");
+        m = it->second;
+      }
+      m.version = materials_.count(id) ? materials_[id].version + 1 : 0;
+      materials_[id] = m;
+      curMaterial_ = id;
+      return;
+    }
+    MgfMaterial& m = material();
+    ++m.version;
+    auto fraction = [&](std::size_t i) {
+      double v = num(l, i);
+      if (v < 0.0 || v > 1.0) fail(l, "must be in [0, 1] (a negative or energy-gaining value is not physical)");
+      return v;
+    };
+    if (k == "sides") {
+      arity(l, 1, 1);
+      double s = num(l, 1);
+      if (s != 1.0 && s != 2.0) fail(l, "must be 1 or 2");
+      m.sides = static_cast<int>(s);
+    } else if (k == "rd") {
+      arity(l, 1, 1);
+      m.rd = fraction(1), m.cd = colour_;
+    } else if (k == "td") {
+      arity(l, 1, 1);
+      m.td = fraction(1), m.ctd = colour_;
+    } else if (k == "ed") {
+      arity(l, 1, 1);
+      m.ed = num(l, 1), m.ced = colour_;
+      if (m.ed < 0.0) fail(l, "negative emission");
+    } else if (k == "rs") {
+      arity(l, 2, 2);
+      m.rs = fraction(1), m.rsAlpha = num(l, 2), m.crs = colour_;
+      if (m.rsAlpha < 0.0) fail(l, "negative roughness");
+    } else {  // ts
+      arity(l, 2, 2);
+      m.ts = fraction(1), m.tsAlpha = num(l, 2), m.cts = colour_;
+    }
+  }
+  /// The scene material for the current MGF material, made on first use of each version.
+  std::string snapshot() {
+    const std::string name = curMaterial_.empty() ? "(unnamed)" : curMaterial_;
+    const MgfMaterial& m = material();
+    std::string key = stem() + ":" + name + (m.version ? "#" + std::to_string(m.version) : "");
+    if (scene_.materialIndex.count(key)) return key;
+    Material out;
+    out.name = key;
+    bool clipped = false;
+    auto rgb = [&](const Colour& c, double Y) {
+      Vec3 raw = cieToRgbUnclipped(c.x, c.y, Y);
+      clipped = clipped || glm::min(raw.x, glm::min(raw.y, raw.z)) < -1e-9 * maxComponent(glm::abs(raw));
+      return glm::max(raw, Vec3(0.0));
+    };
+    // A total above 1 gains energy. Classic files have such materials (cube.mgf: rd 0.9 + rs 0.2)
+    // and other radiosity programs scale them down with a warning; so do we, and say so.
+    double total = m.rd + m.td + m.rs + m.ts, k = 1.0;
+    if (total > 1.0) {
+      k = 1.0 / total;
+      gaining_.insert(name + " (" + fmt(total) + ")");
+    }
+    out.diffuse = rgb(m.cd, k * m.rd);
+    out.specular = rgb(m.crs, k * m.rs);
+    out.emission = rgb(m.ced, m.ed) / (kWhiteEfficacy * kPi);
+    if (m.rs > 0.0) {
+      if (m.rsAlpha <= 0.0) {
+        out.exponent = kMaxExponent;
+        mirrors_.insert(name);
+      } else {
+        // Matches the width of a Gaussian (Beckmann) lobe of roughness alpha: n = 2 / alpha^2 - 2.
+        out.exponent = std::clamp(2.0 / (m.rsAlpha * m.rsAlpha) - 2.0, 0.0, kMaxExponent);
+      }
+    }
+    double worst = maxComponent(out.diffuse + out.specular);
+    if (worst > 1.0) {
+      out.diffuse /= worst, out.specular /= worst;
+      scaled_.insert(name);
+    }
+    if (clipped) clipped_.insert(name);
+    if (m.td + m.ts > 0.0) {
+      transmissive_.insert(name);
+      maxTransmitted_ = std::max(maxTransmitted_, m.td + m.ts);
+    }
+    scene_.materialIndex[key] = static_cast<std::uint32_t>(scene_.materials.size());
+    scene_.materials.push_back(out);
+    return key;
+  }
+  std::string stem() const { return fs::path(paths_.front()).stem().string(); }
+
+  // ---- geometry -------------------------------------------------------------------------------------
+  Object start(const Line& l, PrimitiveType t) {
+    Object o;
+    o.type = t;
+    o.where = where_ + paths_.back() + ": line " + std::to_string(l.number);
+    o.material = snapshot();
+    o.transform.explicitMatrix = current();
+    for (const auto& g : groups_) o.group += (o.group.empty() ? "" : "/") + g;
+    return o;
+  }
+  /// Surfaces are one-sided in the core (front by MGF's right-hand rule). A two-sided MGF surface
+  /// (sides 2, the default) is kept one-sided, as RenderPark does by default: a back-to-back copy
+  /// would coincide with it, and rays cannot tell coincident faces apart.
+  void add(const Object& o, bool open) {
+    if (open && material().sides == 2) ++twoSided_;
+    scene_.objects.push_back(o);
+  }
+  void geometry(const Line& l) {
+    const std::string& k = l.tok[0];
+    ++scene_.entityCounts["mgf " + k];
+    if (k == "f") {
+      if (l.tok.size() < 4) fail(l, "a face needs at least 3 vertices");
+      Object o = start(l, PrimitiveType::Polygon);
+      for (std::size_t i = 1; i < l.tok.size(); ++i) o.points.push_back(named(l, i).p);
+      add(o, true);
+    } else if (k == "sph") {
+      arity(l, 2, 2);
+      Object o = start(l, PrimitiveType::Sphere);
+      o.center = named(l, 1).p;
+      double r = num(l, 2);
+      if (r == 0.0) fail(l, "zero radius");
+      o.radius = std::abs(r), o.inward = r < 0.0;
+      add(o, false);
+    } else if (k == "cyl" || k == "cone") {
+      bool cyl = k == "cyl";
+      arity(l, cyl ? 3 : 4, cyl ? 3 : 4);
+      Vec3 a = named(l, 1).p, b = named(l, 3).p;
+      double r0 = num(l, 2), r1 = cyl ? r0 : num(l, 4);
+      if (r0 == 0.0 && r1 == 0.0) fail(l, "both radii are zero");
+      if (r0 * r1 < 0.0) fail(l, "radii of opposite signs");
+      if (glm::length(b - a) == 0.0) fail(l, "the two end vertices coincide");
+      Object o = start(l, cyl ? PrimitiveType::Cylinder : PrimitiveType::Cone);
+      o.base = a, o.axis = glm::normalize(b - a), o.height = glm::length(b - a);
+      o.radius = std::abs(r0), o.radius2 = std::abs(r1), o.inward = r0 < 0.0 || r1 < 0.0;
+      add(o, true);
+    } else if (k == "ring") {
+      arity(l, 3, 3);
+      const Vertex& c = named(l, 1);
+      if (glm::length(c.n) == 0.0) fail(l, "the centre vertex needs a normal (n)");
+      double r0 = std::abs(num(l, 2)), r1 = std::abs(num(l, 3));
+      if (r0 == r1) fail(l, "equal radii: zero area");
+      Object o = start(l, PrimitiveType::Ring);
+      o.center = c.p, o.normal = glm::normalize(c.n), o.radius = std::min(r0, r1), o.radius2 = std::max(r0, r1);
+      add(o, true);
+    } else if (k == "torus") {
+      arity(l, 3, 3);
+      torus(l);
+    } else {
+      prism(l);
+    }
+  }
+  /// A torus between inner radius r0 and outer radius r1 about the centre's normal, as quads
+  /// (the core has no torus primitive); negative radii face inward.
+  void torus(const Line& l) {
+    const Vertex& c = named(l, 1);
+    if (glm::length(c.n) == 0.0) fail(l, "the centre vertex needs a normal (n)");
+    double a = num(l, 2), b = num(l, 3);
+    if (a * b < 0.0) fail(l, "radii of opposite signs");
+    double r0 = std::abs(a), r1 = std::abs(b);
+    if (r0 >= r1) fail(l, "the inner radius must be smaller than the outer one");
+    bool inward = a < 0.0 || b < 0.0;
+    Vec3 w = glm::normalize(c.n), t = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+    Vec3 u = glm::normalize(glm::cross(t, w)), v = glm::cross(w, u);
+    double major = 0.5 * (r0 + r1), minor = 0.5 * (r1 - r0);
+    const int seg = std::max(8, scene_.settings.tessellation), sub = std::max(4, seg / 2);
+    auto at = [&](int i, int j) {
+      double p = 2.0 * kPi * i / seg, q = 2.0 * kPi * j / sub;
+      Vec3 radial = std::cos(p) * u + std::sin(p) * v;
+      return c.p + (major + minor * std::cos(q)) * radial + minor * std::sin(q) * w;
+    };
+    for (int i = 0; i < seg; ++i)
+      for (int j = 0; j < sub; ++j) {
+        Object o = start(l, PrimitiveType::Polygon);
+        o.points = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+        if (inward) std::reverse(o.points.begin(), o.points.end());
+        scene_.objects.push_back(o);
+      }
+  }
+  /// A closed prism: the polygon, its copy moved len along the polygon's normal, and the sides.
+  void prism(const Line& l) {
+    if (l.tok.size() < 5) fail(l, "expected: prism v1 v2 v3 ... len");
+    double len = num(l, l.tok.size() - 1);
+    if (len == 0.0) fail(l, "zero length");
+    std::vector<Vec3> base;
+    for (std::size_t i = 1; i + 1 < l.tok.size(); ++i) base.push_back(named(l, i).p);
+    Vec3 n(0.0);
+    for (std::size_t i = 0; i < base.size(); ++i) n += glm::cross(base[i], base[(i + 1) % base.size()]);
+    if (glm::length(n) == 0.0) fail(l, "the base polygon has zero area");
+    Vec3 d = glm::normalize(n) * len;
+    bool flip = len < 0.0;  // extruded against the normal: reverse every face to keep them outward
+    auto emit = [&](std::vector<Vec3> pts) {
+      if (flip) std::reverse(pts.begin(), pts.end());
+      Object o = start(l, PrimitiveType::Polygon);
+      o.points = std::move(pts);
+      scene_.objects.push_back(o);
+    };
+    std::vector<Vec3> top, bottom(base.rbegin(), base.rend());
+    for (const Vec3& p : base) top.push_back(p + d);
+    emit(bottom);
+    emit(top);
+    for (std::size_t i = 0; i < base.size(); ++i) {
+      std::size_t j = (i + 1) % base.size();
+      emit({base[i], base[j], base[j] + d, base[i] + d});
+    }
+  }
+
+  Scene& scene_;
+  glm::dmat4 base_;
+  std::string where_;
+  std::vector<std::string> files_, paths_, groups_;
+  std::vector<glm::dmat4> xf_;
+  std::map<std::string, Vertex> vertices_;
+  Vertex unnamedVertex_;
+  std::string curVertex_;
+  std::map<std::string, Colour> colours_;
+  Colour colour_;
+  std::string colourName_;
+  std::map<std::string, MgfMaterial> materials_;
+  MgfMaterial unnamedMaterial_;
+  std::string curMaterial_;
+  int unnamedVersions_ = 0;
+  std::set<std::string> transmissive_, mirrors_, scaled_, clipped_, gaining_;
+  double maxTransmitted_ = 0.0;
+  std::size_t spectra_ = 0, ignored_ = 0, twoSided_ = 0;
+};
+
+}  // namespace
+
+Vec3 cieToRgbUnclipped(double x, double y, double Y) {
+  if (Y == 0.0) return Vec3(0.0);
+  // XYZ -> linear RGB for Rec. 709 primaries and the equal-energy white E, built once.
+  static const glm::dmat3 toRgb = [] {
+    auto col = [](double px, double py) { return Vec3(px / py, 1.0, (1.0 - px - py) / py); };
+    glm::dmat3 P(col(0.64, 0.33), col(0.30, 0.60), col(0.15, 0.06));
+    Vec3 s = glm::inverse(P) * Vec3(1.0, 1.0, 1.0);  // white E: X = Y = Z
+    glm::dmat3 M(P[0] * s.x, P[1] * s.y, P[2] * s.z);
+    return glm::inverse(M);
+  }();
+  return toRgb * Vec3(x / y * Y, Y, (1.0 - x - y) / y * Y);
+}
+
+Rgb cieToRgb(double x, double y, double Y) { return glm::max(cieToRgbUnclipped(x, y, Y), Vec3(0.0)); }
+
+void readMgf(const std::string& path, Scene& scene, const glm::dmat4& xf, const std::string& where) {
+  MgfReader r(scene, xf, where);
+  r.readFile(path, glm::dmat4(1.0));
+  r.finish();
+}
+
+Scene loadMgfScene(const std::string& path) {
+  Scene s;
+  s.path = path;
+  s.name = fs::path(path).stem().string();
+  readMgf(path, s);
+  if (s.objects.empty()) throw InputError(path + ": no geometry");
+  return s;
+}
+
+}  // namespace hr
