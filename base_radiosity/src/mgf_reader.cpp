@@ -230,6 +230,7 @@ class MgfReader {
       } else if (k == "i") {
         if (l.tok.size() < 2) fail(l, "missing file name");
         fs::path f = fs::path(paths_.back()).parent_path() / l.tok[1];
+        if (!fs::is_regular_file(f)) fail(l, "cannot open included file " + f.string());
         readFile(f.string(), xform(l, 2, l.tok.size()));
       } else if (k == "v") {
         vertexContext(l);

@@ -218,10 +218,11 @@ std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
   std::vector<std::size_t> idx(p.size());
   for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
   auto inside = [&](const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-    // Strictly inside: seam vertices lying on an ear's edge do not block it.
-    double e = 1e-12 * len;
-    return glm::dot(glm::cross(b - a, q - a), n) > e && glm::dot(glm::cross(c - b, q - b), n) > e &&
-           glm::dot(glm::cross(a - c, q - c), n) > e;
+    // Inside or on the boundary: a reflex vertex on an ear's edge blocks it (else the ear would
+    // cover a notch). Copies of the ear's own corners (a seam walks them twice) are skipped above.
+    double e = -1e-12 * len;
+    return glm::dot(glm::cross(b - a, q - a), n) >= e && glm::dot(glm::cross(c - b, q - b), n) >= e &&
+           glm::dot(glm::cross(a - c, q - c), n) >= e;
   };
   std::size_t guard = 0;
   while (idx.size() > 3 && guard < 4 * p.size() * p.size()) {
