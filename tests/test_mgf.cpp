@@ -5,6 +5,7 @@
 #include <hr/geometry.h>
 #include <hr/mgf.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -24,8 +25,12 @@ struct Built {
   Vec3 areaVector{0.0};
 };
 
+/// Files go to a folder of the running test's own: ctest runs tests in parallel processes.
 fs::path writeMgf(const std::string& name, const std::string& text) {
-  fs::path dir = fs::temp_directory_path() / "ghr_mgf";
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string test = std::string(info->test_suite_name()) + "_" + info->name();
+  std::replace(test.begin(), test.end(), '/', '_');
+  fs::path dir = fs::temp_directory_path() / ("ghr_mgf_" + test);
   fs::create_directories(dir);
   fs::path p = dir / name;
   std::ofstream(p) << text;
@@ -163,15 +168,15 @@ TEST(Mgf, MaterialConversions) {
     ADD_FAILURE() << "no material " << tail;
     return hr::Material{};
   };
-  hr::Material grey = find(":grey#2");
+  hr::Material grey = find(":grey");
   EXPECT_NEAR(grey.diffuse.x, 0.5, 1e-6);
   EXPECT_NEAR(grey.diffuse.z, 0.5, 1e-6) << "MGF's neutral colour is grey";
   EXPECT_NEAR(grey.specular.y, 0.3, 1e-6);
   EXPECT_NEAR(grey.exponent, 198.0, 1e-9) << "n = 2 / alpha^2 - 2";
   // ed is luminous exitance (lm/m^2): L = ed / (179 lm/W) / pi.
-  EXPECT_NEAR(find(":lit#1").emission.y, 562.345 / 179.0 / hr::kPi, 1e-9);
-  EXPECT_EQ(find(":mirror#1").exponent, 10000.0);
-  hr::Material hot = find(":hot#2");
+  EXPECT_NEAR(find(":lit").emission.y, 562.345 / 179.0 / hr::kPi, 1e-9);
+  EXPECT_EQ(find(":mirror").exponent, 10000.0);
+  hr::Material hot = find(":hot");
   EXPECT_NEAR(hot.diffuse.x + hot.specular.x, 1.0, 1e-9) << "energy-gaining 1.1 scaled to 1";
   std::string all;
   for (const auto& d : b.scene.dropped) all += d + "\n";

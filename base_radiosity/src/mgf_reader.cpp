@@ -422,10 +422,10 @@ class MgfReader {
   std::string snapshot() {
     const std::string name = curMaterial_.empty() ? "(unnamed)" : curMaterial_;
     const MgfMaterial& m = material();
-    std::string key = stem() + ":" + name + (m.version ? "#" + std::to_string(m.version) : "");
-    if (scene_.materialIndex.count(key)) return key;
+    const std::string base = stem() + ":" + name;
+    auto cached = snapshots_.find({base, m.version});
+    if (cached != snapshots_.end()) return cached->second;
     Material out;
-    out.name = key;
     bool clipped = false;
     auto rgb = [&](const Colour& c, double Y) {
       Vec3 raw = cieToRgbUnclipped(c.x, c.y, Y);
@@ -461,8 +461,23 @@ class MgfReader {
       transmissive_.insert(name);
       maxTransmitted_ = std::max(maxTransmitted_, m.td + m.ts);
     }
-    scene_.materialIndex[key] = static_cast<std::uint32_t>(scene_.materials.size());
-    scene_.materials.push_back(out);
+    // Files redefine materials with the same values over and over: one scene material per distinct
+    // definition, the second one named "name~2", and so on.
+    std::vector<std::string>& variants = variants_[base];
+    std::string key;
+    for (const std::string& v : variants) {
+      const Material& e = scene_.materials[scene_.materialIndex.at(v)];
+      if (e.diffuse == out.diffuse && e.specular == out.specular && e.exponent == out.exponent && e.emission == out.emission)
+        key = v;
+    }
+    if (key.empty()) {
+      key = variants.empty() ? base : base + "~" + std::to_string(variants.size() + 1);
+      out.name = key;
+      variants.push_back(key);
+      scene_.materialIndex[key] = static_cast<std::uint32_t>(scene_.materials.size());
+      scene_.materials.push_back(out);
+    }
+    snapshots_[{base, m.version}] = key;
     return key;
   }
   std::string stem() const { return fs::path(paths_.front()).stem().string(); }
@@ -599,6 +614,8 @@ class MgfReader {
   std::string curMaterial_;
   int unnamedVersions_ = 0;
   std::set<std::string> transmissive_, mirrors_, scaled_, clipped_, gaining_;
+  std::map<std::pair<std::string, int>, std::string> snapshots_;  // (material, version) -> scene material
+  std::map<std::string, std::vector<std::string>> variants_;      // distinct definitions per material
   double maxTransmitted_ = 0.0;
   std::size_t spectra_ = 0, ignored_ = 0, twoSided_ = 0;
 };
