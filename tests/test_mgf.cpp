@@ -184,6 +184,16 @@ TEST(Mgf, MaterialConversions) {
   EXPECT_NE(all.find("glass"), std::string::npos) << all;
   EXPECT_NE(all.find("mirror"), std::string::npos) << all;
   EXPECT_NE(all.find("hot (1.1)"), std::string::npos) << all;
+  // Spectra: a flat one is MGF's neutral white (x = y = 1/3, equal energy) to the fit's accuracy; one
+  // concentrated at 600-620 nm is orange-red.
+  Built flat = build("c\n cspec 400 700 1 1 1 1\nm w =\n rd 0.5\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 0 1 0\nf a b c\n");
+  hr::Material fw = flat.scene.materials[flat.scene.materialIndex.at(flat.scene.materials[0].name)];
+  // (The fit puts a flat 400-700 nm spectrum at x = 0.3334, y = 0.3341.)
+  EXPECT_NEAR(fw.diffuse.x / fw.diffuse.y, 1.0, 0.02);
+  EXPECT_NEAR(fw.diffuse.z / fw.diffuse.y, 1.0, 0.02);
+  Built orange = build("c\n cspec 580 640 0 0 0 1 1 0 0\nm w =\n rd 0.5\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 0 1 0\nf a b c\n");
+  hr::Material ow = orange.scene.materials[0];
+  EXPECT_GT(ow.diffuse.x, 3.0 * ow.diffuse.z);
   // A saturated red: red channel above the others, luminance as given.
   hr::Rgb red = hr::cieToRgb(0.6, 0.33, 0.4);
   EXPECT_GT(red.x, red.y);
