@@ -316,6 +316,8 @@ struct Solver::Impl final : public HostView {
   double linkError(const Link& l) const {
     double S = luminance(senderValue(l));
     if (l.sender.isCluster()) S = std::max(S, peak[l.sender.index()]);
+    // A cluster catches light with its projected area, on average a quarter of its surface area
+    // (Cauchy's formula for convex bodies; an estimate for the rest).
     double area = h.area(l.receiver) * (l.receiver.isCluster() ? 0.25 : 1.0);
     double uncertainty = std::max<double>(l.spread, l.geom);
     return area * S * l.bound * uncertainty;
