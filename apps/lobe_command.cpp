@@ -5,13 +5,13 @@
 
 #include <glossy/lobe.h>
 #include <hr/output.h>
+#include <hr/vtk_io.h>
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
-#include <vtkXMLPolyDataWriter.h>
 
 #include <cmath>
 #include <cstdio>
@@ -93,13 +93,7 @@ void writeLobeVtp(const std::string& path, const glossy::AnyDistribution& d, con
   pd->GetPointData()->AddArray(projected);
   pd->GetPointData()->AddArray(analytic);
   pd->GetPointData()->SetActiveScalars("intensity");
-  hr::writeAtomically(path, [&](const std::string& tmp) {
-    vtkNew<vtkXMLPolyDataWriter> w;
-    w->SetFileName(tmp.c_str());
-    w->SetInputData(pd);
-    w->SetDataModeToBinary();
-    if (w->Write() != 1) throw std::runtime_error(path + ": VTK could not write the file");
-  });
+  hr::writePolyData(pd, path);
 }
 
 }  // namespace

@@ -235,7 +235,7 @@ class MgfReader {
         if (!fs::is_regular_file(f)) fail(l, "cannot open included file " + f.string());
         readFile(f.string(), xform(l, 2, l.tok.size()));
       } else if (k == "v") {
-        vertexContext(l);
+        context(l, vertices_, unnamedVertex_, curVertex_, "vertex");
       } else if (k == "p" || k == "n") {
         arity(l, 3, 3);
         Vec3 v(num(l, 1), num(l, 2), num(l, 3));
@@ -257,29 +257,35 @@ class MgfReader {
   std::size_t depthFloor() const { return files_.size(); }  // each file's own xf sits at its base
 
   // ---- vertices ---------------------------------------------------------------------------------
-  Vertex& vertex() { return curVertex_.empty() ? unnamedVertex_ : vertices_[curVertex_]; }
-  void vertexContext(const Line& l) {
+  /// The grammar v, c and m share: "kind" alone resets the unnamed context, "kind id" selects a
+  /// defined one, "kind id = [template]" (re)defines one, from the template or from scratch.
+  enum class Context { Reset, Selected, Defined };
+  template <class T>
+  Context context(const Line& l, std::map<std::string, T>& named, T& unnamed, std::string& current, const char* what) {
     if (l.tok.size() == 1) {
-      curVertex_.clear();
-      unnamedVertex_ = Vertex{};
-      return;
+      current.clear();
+      unnamed = T{};
+      return Context::Reset;
     }
     const std::string& id = l.tok[1];
     if (l.tok.size() == 2) {
-      if (!vertices_.count(id)) fail(l, "undefined vertex \"" + id + "\"");
-      curVertex_ = id;
-      return;
+      if (!named.count(id)) fail(l, std::string("undefined ") + what + " \"" + id + "\"");
+      current = id;
+      return Context::Selected;
     }
-    if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: v id [= [template]]");
-    Vertex v;
+    if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: " + l.tok[0] + " id [= [template]]");
+    T v{};
     if (l.tok.size() == 4) {
-      auto it = vertices_.find(l.tok[3]);
-      if (it == vertices_.end()) fail(l, "undefined template vertex \"" + l.tok[3] + "\"");
+      auto it = named.find(l.tok[3]);
+      if (it == named.end()) fail(l, std::string("undefined template ") + what + " \"" + l.tok[3] + "\"");
       v = it->second;
     }
-    vertices_[id] = v;
-    curVertex_ = id;
+    named[id] = v;
+    current = id;
+    return Context::Defined;
   }
+
+  Vertex& vertex() { return curVertex_.empty() ? unnamedVertex_ : vertices_[curVertex_]; }
   const Vertex& named(const Line& l, std::size_t i) const {
     if (i >= l.tok.size()) fail(l, "missing vertex argument");
     auto it = vertices_.find(l.tok[i]);
@@ -288,35 +294,14 @@ class MgfReader {
   }
 
   // ---- colours ----------------------------------------------------------------------------------
+  Colour& colour() { return curColour_.empty() ? unnamedColour_ : colours_[curColour_]; }
   void colourEntity(const Line& l) {
     const std::string& k = l.tok[0];
     if (k == "c") {
-      if (l.tok.size() == 1) {
-        colour_ = Colour{};
-        colourName_.clear();
-        return;
-      }
-      const std::string& id = l.tok[1];
-      if (l.tok.size() == 2) {
-        auto it = colours_.find(id);
-        if (it == colours_.end()) fail(l, "undefined colour \"" + id + "\"");
-        colour_ = it->second;
-        colourName_ = id;
-        return;
-      }
-      if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: c id [= [template]]");
-      Colour c;
-      if (l.tok.size() == 4) {
-        auto it = colours_.find(l.tok[3]);
-        if (it == colours_.end()) fail(l, "undefined template colour \"" + l.tok[3] + "\"");
-        c = it->second;
-      }
-      colours_[id] = c;
-      colour_ = c;
-      colourName_ = id;
+      context(l, colours_, unnamedColour_, curColour_, "colour");
       return;
     }
-    Colour c = colour_;
+    Colour c = colour();
     if (k == "cxy") {
       arity(l, 2, 2);
       c.x = num(l, 1), c.y = num(l, 2);
@@ -351,8 +336,7 @@ class MgfReader {
       c.x = XYZ.x / sum, c.y = XYZ.y / sum;
       ++spectra_;
     }
-    colour_ = c;
-    if (!colourName_.empty() && colours_.count(colourName_)) colours_[colourName_] = c;
+    colour() = c;
   }
   /// CIE XYZ of a sampled spectrum (linear between samples, 1 nm steps), with the CIE 1931
   /// matching functions in the multi-lobe Gaussian fit of Wyman, Sloan and Shirley (JCGT 2013),
@@ -397,28 +381,11 @@ class MgfReader {
   void materialEntity(const Line& l) {
     const std::string& k = l.tok[0];
     if (k == "m") {
-      if (l.tok.size() == 1) {
-        curMaterial_.clear();
-        unnamedMaterial_ = MgfMaterial{};
-        unnamedMaterial_.version = ++unnamedVersions_;
-        return;
-      }
-      const std::string& id = l.tok[1];
-      if (l.tok.size() == 2) {
-        if (!materials_.count(id)) fail(l, "undefined material \"" + id + "\"");
-        curMaterial_ = id;
-        return;
-      }
-      if (l.tok[2] != "=" || l.tok.size() > 4) fail(l, "expected: m id [= [template]]");
-      MgfMaterial m;
-      if (l.tok.size() == 4) {
-        auto it = materials_.find(l.tok[3]);
-        if (it == materials_.end()) fail(l, "undefined template material \"" + l.tok[3] + "\"");
-        m = it->second;
-      }
-      m.version = materials_.count(id) ? materials_[id].version + 1 : 0;
-      materials_[id] = m;
-      curMaterial_ = id;
+      // Versions tell snapshot() when a material changed; a redefinition continues the count.
+      int previous = l.tok.size() > 1 && materials_.count(l.tok[1]) ? materials_[l.tok[1]].version : -1;
+      Context c = context(l, materials_, unnamedMaterial_, curMaterial_, "material");
+      if (c == Context::Reset) unnamedMaterial_.version = ++unnamedVersions_;
+      if (c == Context::Defined) materials_[curMaterial_].version = previous + 1;
       return;
     }
     MgfMaterial& m = material();
@@ -435,21 +402,21 @@ class MgfReader {
       m.sides = static_cast<int>(s);
     } else if (k == "rd") {
       arity(l, 1, 1);
-      m.rd = fraction(1), m.cd = colour_;
+      m.rd = fraction(1), m.cd = colour();
     } else if (k == "td") {
       arity(l, 1, 1);
-      m.td = fraction(1), m.ctd = colour_;
+      m.td = fraction(1), m.ctd = colour();
     } else if (k == "ed") {
       arity(l, 1, 1);
-      m.ed = num(l, 1), m.ced = colour_;
+      m.ed = num(l, 1), m.ced = colour();
       if (m.ed < 0.0) fail(l, "negative emission");
     } else if (k == "rs") {
       arity(l, 2, 2);
-      m.rs = fraction(1), m.rsAlpha = num(l, 2), m.crs = colour_;
+      m.rs = fraction(1), m.rsAlpha = num(l, 2), m.crs = colour();
       if (m.rsAlpha < 0.0) fail(l, "negative roughness");
     } else {  // ts
       arity(l, 2, 2);
-      m.ts = fraction(1), m.tsAlpha = num(l, 2), m.cts = colour_;
+      m.ts = fraction(1), m.tsAlpha = num(l, 2), m.cts = colour();
     }
   }
   /// The scene material for the current MGF material, made on first use of each version.
@@ -641,8 +608,8 @@ class MgfReader {
   Vertex unnamedVertex_;
   std::string curVertex_;
   std::map<std::string, Colour> colours_;
-  Colour colour_;
-  std::string colourName_;
+  Colour unnamedColour_;
+  std::string curColour_;
   std::map<std::string, MgfMaterial> materials_;
   MgfMaterial unnamedMaterial_;
   std::string curMaterial_;

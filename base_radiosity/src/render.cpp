@@ -30,6 +30,7 @@ Image render(const Solution& s, const Camera& cam, const DisplayFn& display, int
           SurfaceHit hit = vis.intersect(cam.eye, d);
           if (!hit.hit) continue;
           const Patch& pt = s.patches[hit.patch];
+          if (2 * sx + 1 == samplesPerAxis && 2 * sy + 1 == samplesPerAxis) img.objectId[i] = pt.object;
           // Surfaces emit and reflect from their front only; their back shows black.
           if (glm::dot(pt.normal, d) >= 0.0) continue;
           Vec3 p = cam.eye + hit.t * d;
@@ -39,8 +40,10 @@ Image render(const Solution& s, const Camera& cam, const DisplayFn& display, int
         }
       sum /= double(samplesPerAxis * samplesPerAxis);
       for (int c = 0; c < 3; ++c) img.rgb[3 * i + c] = static_cast<float>(sum[c]);
-      SurfaceHit centre = vis.intersect(cam.eye, rays.dir(x + 0.5, y + 0.5));
-      if (centre.hit) img.objectId[i] = s.patches[centre.patch].object;
+      if (samplesPerAxis % 2 == 0) {  // no grid sample at the centre: cast one for the object id
+        SurfaceHit centre = vis.intersect(cam.eye, rays.dir(x + 0.5, y + 0.5));
+        if (centre.hit) img.objectId[i] = s.patches[centre.patch].object;
+      }
     }
   });
   return img;

@@ -178,6 +178,14 @@ struct Solver::Impl final : public HostView {
   }
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
 
+  /// cos cos / r^2 between two surface points (up to 1/pi), 0 unless they face each other: the
+  /// weight of a shadow ray in a link's visible fraction.
+  static double pointKernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny) {
+    Vec3 xy = y - x;
+    double d2 = glm::dot(xy, xy), cx = glm::dot(nx, xy), cy = -glm::dot(ny, xy);
+    return cx > 0.0 && cy > 0.0 && d2 > 0.0 ? cx * cy / (d2 * d2) : 0.0;
+  }
+
   /// Computes coef, spread, bound and direction of a new link, tracing its shadow rays together.
   int evaluate(Link& l) const {
     const int K = opt.raysPerLink;
@@ -223,10 +231,7 @@ struct Solver::Impl final : public HostView {
         Vec3 x = r.poly.sample((k + rr.uniform()) / K, rr.uniform());
         const Polygon& kid = kidsPoly[k % 4];
         Vec3 y = kid.sample((k / 4 + rs.uniform()) / perKid, rs.uniform());
-        Vec3 xy = y - x;
-        double d2 = glm::dot(xy, xy);
-        double cr = glm::dot(r.normal, xy), cs = -glm::dot(s.normal, xy);
-        val[k] = cr > 0.0 && cs > 0.0 && d2 > 0.0 ? cr * cs / (d2 * d2) * (4.0 * kid.area() / s.area) : 0.0;
+        val[k] = pointKernel(x, r.normal, y, s.normal) * (4.0 * kid.area() / s.area);
         if (val[k] > 0.0) {
           from[n] = lifted(r, x);
           to[n] = lifted(s, y);
@@ -273,11 +278,8 @@ struct Solver::Impl final : public HostView {
     int visible = 0, facing = 0;
     double wsum = 0.0, vsum = 0.0;
     for (int k = 0; k < K; ++k) {
-      Vec3 xy = to[k] - from[k];
-      double d2 = glm::dot(xy, xy);
-      double cr = glm::dot(nf[k], xy), cs = -glm::dot(nt[k], xy);
-      if (cr <= 0.0 || cs <= 0.0 || d2 <= 0.0) continue;
-      double wk = cr * cs / (d2 * d2);
+      double wk = pointKernel(from[k], nf[k], to[k], nt[k]);
+      if (wk <= 0.0) continue;
       ++facing;
       wsum += wk;
       vsum += blocked[k] ? 0.0 : wk;

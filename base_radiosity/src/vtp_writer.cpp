@@ -11,6 +11,7 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <hr/output.h>
+#include <hr/vtk_io.h>
 
 namespace hr {
 
@@ -50,6 +51,10 @@ void writeVtp(const Solution& s, const std::string& path) {
   pd->GetCellData()->AddArray(level);
   pd->GetCellData()->AddArray(area);
   pd->GetPointData()->AddArray(pointB);
+  writePolyData(pd, path);
+}
+
+void writePolyData(vtkPolyData* pd, const std::string& path) {
   writeAtomically(path, [&](const std::string& tmp) {
     vtkNew<vtkXMLPolyDataWriter> w;
     w->SetFileName(tmp.c_str());

@@ -76,7 +76,7 @@ Rgb PathTracer::radiance(const Vec3& org, const Vec3& dir, hr::Rng& rng, int max
       wl /= std::sqrt(dist2);
       double cx = glm::dot(n, wl), cy = -glm::dot(lp.normal, wl);
       if (cx > 0.0 && cy > 0.0 && !vis_->occluded(lifted, y + lp.normal * eps)) {
-        double pl = choose_[it->patch] * dist2 / (lp.area * cy);
+        double pl = lightPdf(it->patch, x, y);
         double pb = glossy::pdf(b, wo, wl, n);
         double w = pl * pl / (pl * pl + pb * pb);
         L += T * glossy::eval(b, wl, wo, n) * emission_[lp.material] * (cx * w / pl);
