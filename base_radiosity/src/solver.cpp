@@ -134,16 +134,19 @@ struct Solver::Impl final : public HostView {
   /// receiver for clusters (W/sr).
   Rgb senderValue(const Link& l) const {
     Vec3 toRecv = -Vec3(l.dir);
-    if (ext) {
-      bool own = l.sender.isCluster() ? clusterOwned[l.sender.index()] : owned[l.sender.index()];
-      Rgb I;
-      if (own && ext->exitantIntensity(l.sender, toRecv, I)) {
-        if (l.sender.isCluster()) return I;
-        const Element& e = h.element(l.sender.index());
-        double c = glm::dot(e.normal, toRecv);
-        return c > 1e-6 ? kPi * I / (e.area * c) : Rgb(0.0);
-      }
+    Rgb v = diffuseSenderValue(l, toRecv);
+    if (ext && isOwned(l.sender)) {
+      // Additive: the extension's directional share joins the host's Lambertian light.
+      Rgb I = ext->intensity(l.sender, toRecv);
+      if (l.sender.isCluster()) return v + I;
+      const Element& e = h.element(l.sender.index());
+      double c = glm::dot(e.normal, toRecv);
+      if (c > 1e-6) v += kPi * I / (e.area * c);
     }
+    return v;
+  }
+  bool isOwned(NodeId n) const { return n.isCluster() ? clusterOwned[n.index()] != 0 : owned[n.index()] != 0; }
+  Rgb diffuseSenderValue(const Link& l, const Vec3& toRecv) const {
     if (l.sender.isCluster()) return OctaMap::lookup(&table[std::size_t(l.sender.index()) * OctaMap::kBins * 3], toRecv);
     const Element& e = h.element(l.sender.index());
     if (!e.leaf()) {
@@ -466,20 +469,6 @@ struct Solver::Impl final : public HostView {
           Link& l = links[i];
           Rgb e = double(l.coef) * senderValue(l);
           l.E = glm::vec3(e);
-          if (ext) {
-            bool own = recv.isCluster() ? clusterOwned[recv.index()] : owned[recv.index()];
-            if (own) {
-              Transfer t{l.sender, l.receiver, Vec3(l.dir), e};
-              if (!recv.isCluster()) {
-                double c = glm::dot(h.element(recv.index()).normal, Vec3(l.dir));
-                t.normalIrradiance = c > 1e-3 ? e / c : e / 1e-3;
-              }
-              if (ext->gather(t)) {
-                l.E = glm::vec3(0.0f);
-                continue;
-              }
-            }
-          }
           sum += e;
         }
         if (!recv.isCluster()) Eg[recv.index()] = sum;
@@ -503,7 +492,6 @@ struct Solver::Impl final : public HostView {
     if (el.leaf()) {
       Et[e] = total;
       B[e] = emitted(e) + mat(e).diffuse * total;
-      if (ext && owned[e]) ext->reflect(NodeId{e}, total);
       return B[e] * el.area;
     }
     Et[e] = total;
@@ -548,14 +536,13 @@ struct Solver::Impl final : public HostView {
   void pushPull() {
     std::vector<Sample> samples;
     pushCluster(0, samples);
-    if (ext) ext->pushPull(*this);
   }
 
   void markOwned() {
     clusterOwned.assign(h.clusters().size(), 0);
     if (!ext) return;
     for (std::uint32_t p = 0; p < h.patches().size(); ++p)
-      owned[p] = ext->handles(material(h.patches()[p].material)) ? 1 : 0;
+      owned[p] = ext->simulates(material(h.patches()[p].material)) ? 1 : 0;
     // Clusters are built with children after parents: a reverse sweep sees children first.
     for (std::size_t c = h.clusters().size(); c-- > 0;)
       for (NodeId k : h.cluster(static_cast<std::uint32_t>(c)).children)

@@ -2,6 +2,7 @@
 // back to patches. Errors from Embree go through the registered callback and become exceptions.
 #include <embree3/rtcore.h>
 #include <hr/visibility.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstdio>
@@ -35,7 +36,9 @@ struct Visibility::Impl {
 };
 
 Visibility::Visibility(const std::vector<Patch>& patches) : impl_(std::make_unique<Impl>()) {
-  impl_->device = rtcNewDevice("threads=1");
+  // No "threads=" setting: Embree would install a process-wide TBB limit with it and silently
+  // serialise the whole program (the solver ran on one core whatever --threads said).
+  impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw std::runtime_error("cannot create Embree device");
   rtcSetDeviceErrorFunction(impl_->device, onEmbreeError, &impl_->lastError);
   impl_->scene = rtcNewScene(impl_->device);
@@ -71,7 +74,10 @@ Visibility::Visibility(const std::vector<Patch>& patches) : impl_(std::make_uniq
   rtcCommitGeometry(geom);
   rtcAttachGeometry(impl_->scene, geom);
   rtcReleaseGeometry(geom);
-  rtcCommitScene(impl_->scene);
+  // The BVH is built on one thread so that it, and every ray's answer at ties, is the same whatever
+  // the thread count; the build is a few ms against seconds of ray queries.
+  tbb::task_arena serialBuild(1);
+  serialBuild.execute([&] { rtcCommitScene(impl_->scene); });
   impl_->check("building the Embree scene");
 }
 

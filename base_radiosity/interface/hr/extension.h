@@ -1,82 +1,98 @@
-// The whole interface an extension sees of the radiosity host (the glossy extension includes this
-// and nothing else of base_radiosity). Four hook points: link gather, push/pull, reflection, display.
-// Every hook has an empty default, so a run without an extension is the diffuse core alone. Calls are
-// per phase, per link or per leaf, never per ray. Extension data lives in the extension's own arrays
-// indexed by NodeId (ids are stable: nodes are only ever appended), never in host node types.
+// The whole interface an extension sees of a radiosity host (with hr/host_view.h): four hook points,
+// link gather, push/pull, reflection and display, plus what the oracle, the energy audit, the
+// solution file and the command line need. The contract is additive: the host keeps the Lambertian
+// part of every surface and all of its light; an extension owns only the part it simulates (e.g. the
+// specular lobe) and the host adds that share wherever it reads exitant light, a bound, a residual,
+// an energy term or a display value. Every hook has an empty default and a run without an extension
+// calls none. Calls are per phase, per receiver, per node or per leaf, never per ray. Extension data
+// lives in the extension's own arrays indexed by NodeId.
 #pragma once
-#include <hr/types.h>
+#include <hr/host_view.h>
 
-#include <span>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace hr {
 
-/// An element or a cluster. Clusters carry the top bit; the rest is a dense host index.
-struct NodeId {
-  std::uint32_t value = kNone;
-  static constexpr std::uint32_t kClusterBit = 0x80000000u;
-  bool isCluster() const { return (value & kClusterBit) != 0; }
-  std::uint32_t index() const { return value & ~kClusterBit; }
-  friend bool operator==(NodeId a, NodeId b) { return a.value == b.value; }
+/// An Illumination Sample: the light one link brought to a node this iteration. At an element,
+/// `irradiance` lies on the element's plane; at a cluster it is E_perp, on a surface facing the sender.
+struct IncidentSample {
+  Vec3 toSender{0.0};    // unit, receiver -> sender
+  Rgb irradiance{0.0};   // W/m^2, visibility included
 };
 
-struct NodeInfo {
-  Vec3 center{0.0};
-  Vec3 normal{0.0};     // unit normal for planar nodes, zero for clusters
-  double area = 0.0;    // m^2 (sum over the subtree for clusters)
-  bool planar = false;  // an element of a planar patch
-  bool leaf = false;
-  std::uint32_t material = kNone;  // kNone for clusters
-  std::uint32_t object = kNone;
-  Aabb bounds;
+struct OptionSpec {
+  std::string name;  // without dashes, e.g. "dir-eps"
+  std::string help;
 };
-
-/// Material parameters as the extension needs them (modified Phong; radiance in W/(m^2 sr)).
-struct MaterialInfo {
-  Rgb diffuse{0.0}, specular{0.0};
-  double exponent = 1.0;
-  Rgb emission{0.0};
+struct OptionValue {
+  std::string name, value;
 };
-
-/// One link's light after visibility: E_perp is the irradiance on a surface facing the sender.
-struct Transfer {
-  NodeId sender, receiver;
-  Vec3 toSender{0.0};       // unit, receiver -> sender
-  Rgb normalIrradiance{0.0};  // W/m^2, visibility included
-};
-
-class HostView {
- public:
-  virtual ~HostView() = default;
-  virtual NodeId root() const = 0;
-  virtual NodeInfo info(NodeId) const = 0;
-  virtual std::span<const NodeId> children(NodeId) const = 0;
-  virtual std::size_t elementCount() const = 0;
-  virtual std::size_t clusterCount() const = 0;
-  virtual MaterialInfo material(std::uint32_t id) const = 0;
-  virtual std::size_t materialCount() const = 0;
+struct StatEntry {
+  std::string name;  // a key of stats.json's "extension" object
+  double value = 0.0;
 };
 
 class Extension {
  public:
   virtual ~Extension() = default;
   virtual std::string_view name() const = 0;
-  /// Materials the extension takes over (e.g. glossy ones). Nodes with none keep the diffuse path.
-  virtual bool handles(const MaterialInfo&) const { return false; }
-  /// After each refinement pass (the node set may have grown): size side tables.
+
+  // Set-up: serial.
+  /// Options the command line passes through; any other option given with this extension is refused.
+  virtual std::vector<OptionSpec> options() const { return {}; }
+  /// Applies the options given; throws InputError naming the option for a bad value. Once, first.
+  virtual void configure(const std::vector<OptionValue>&) {}
+  /// Whether the extension simulates a part of this material; samples reach only such subtrees.
+  virtual bool simulates(const MaterialInfo&) const { return false; }
+  /// The node set changed (after every refinement pass): size side tables. Serial.
   virtual void attach(const HostView&) {}
-  /// Sender side of a link: exitant intensity of a node the extension owns, W/sr.
-  virtual bool exitantIntensity(NodeId, const Vec3& /*dir*/, Rgb& /*watts_per_sr*/) const { return false; }
-  /// Link gather, once per link per iteration. Return true if the extension took this light (it
-  /// then never reaches the host's diffuse irradiance).
-  virtual bool gather(const Transfer&) { return false; }
-  /// Push/pull phase, after the host's own push/pull of diffuse quantities.
-  virtual void pushPull(const HostView&) {}
-  /// Reflection at a leaf the extension owns, called during the host's push with the leaf's total
-  /// diffuse-path irradiance (W/m^2).
-  virtual void reflect(NodeId /*leaf*/, const Rgb& /*irradiance*/) {}
-  /// Display: radiance of a leaf toward a viewer (unit direction leaf -> eye), W/(m^2 sr).
-  virtual bool displayRadiance(NodeId /*leaf*/, const Vec3& /*toEye*/, Rgb& /*radiance*/) const { return false; }
+  /// A leaf was split into children: hand its light down so a new sender is never dark. Serial.
+  virtual void split(NodeId /*parent*/, std::span<const NodeId> /*children*/) {}
+
+  // Sending: const, concurrent with each other, never during the phases below.
+  /// The extension's share of a node's exitant radiant intensity toward unit dir, W/sr.
+  virtual Rgb intensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }
+  /// An upper bound of that share within acos(cosHalfAngle) of unit axis: the oracle's sight of highlights.
+  virtual Rgb intensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
+
+  // Link gather: concurrent across receivers (a receiver's descendants may be receivers too).
+  /// A receiver whose subtree holds simulated surfaces, with the samples its links brought this iteration.
+  virtual void gather(NodeId /*receiver*/, std::span<const IncidentSample>) {}
+
+  // Reflection: during the host's push, concurrent across leaves.
+  /// A simulated leaf with all its samples this iteration (its own and its ancestors', on its plane).
+  virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
+
+  // Push/pull: children before parents, concurrent across disjoint subtrees.
+  /// An inner element or cluster above simulated leaves: its exitant light from its children's.
+  virtual void pull(NodeId /*node*/, std::span<const NodeId> /*children*/) {}
+  /// After the pull: how much the extension's exitant power changed this iteration, W (luminance).
+  virtual double powerChange() const { return 0.0; }
+
+  // Energy audit: const, concurrent across leaves.
+  /// Power a simulated leaf sends through the extension, W per channel.
+  virtual Rgb reflectedPower(NodeId /*leaf*/) const { return Rgb(0.0); }
+  /// Draws an exitant direction of that power from u1, u2 in [0, 1); returns the power the sample
+  /// stands for (W per channel; its mean over draws is reflectedPower) and sets dir.
+  virtual Rgb sampleExitant(NodeId /*leaf*/, double /*u1*/, double /*u2*/, Vec3& /*dir*/) const { return Rgb(0.0); }
+
+  // Display: const, concurrent.
+  /// The extension's radiance leaving a leaf toward unit toEye, W/(m^2 sr), added to the host's B/pi.
+  virtual Rgb radiance(NodeId /*leaf*/, const Vec3& /*toEye*/) const { return Rgb(0.0); }
+  /// Directional coefficients a leaf holds (inspection files); 0 for none.
+  virtual std::size_t coefficients(NodeId /*leaf*/) const { return 0; }
+
+  // Solution file and statistics: serial.
+  /// Version of what save() writes; a file with another version is refused.
+  virtual std::uint32_t formatVersion() const { return 1; }
+  /// The extension's leaf data for the solution file's tagged section (the host adds name and version).
+  virtual std::string save() const { return {}; }
+  /// Restores what save() wrote, over the leaves of a loaded solution; throws InputError when damaged.
+  virtual void load(std::string_view /*bytes*/, const HostView&) {}
+  /// Figures for stats.json's "extension" object.
+  virtual std::vector<StatEntry> stats() const { return {}; }
 };
 
 }  // namespace hr
