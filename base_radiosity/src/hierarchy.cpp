@@ -9,6 +9,16 @@
 namespace hr {
 
 Hierarchy::Hierarchy(std::vector<Patch> patches, int leafSize) : patches_(std::move(patches)) {
+  patchOrder_.resize(patches_.size());
+  std::iota(patchOrder_.begin(), patchOrder_.end(), 0u);
+  if (!patches_.empty()) build(0, static_cast<std::uint32_t>(patches_.size()), leafSize);
+  // Patches are stored in cluster order, so that a cluster's patches (and their root elements) are
+  // contiguous in memory: push/pull and cluster intensities walk them with few cache misses.
+  std::vector<Patch> ordered;
+  ordered.reserve(patches_.size());
+  for (std::uint32_t i : patchOrder_) ordered.push_back(patches_[i]);
+  patches_ = std::move(ordered);
+  std::iota(patchOrder_.begin(), patchOrder_.end(), 0u);
   elements_.reserve(patches_.size() * 4);
   for (std::uint32_t i = 0; i < patches_.size(); ++i) {
     const Patch& p = patches_[i];
@@ -22,9 +32,6 @@ Hierarchy::Hierarchy(std::vector<Patch> patches, int leafSize) : patches_(std::m
     elements_.push_back(e);
   }
   childSlot_.assign(elements_.size(), kNone);
-  patchOrder_.resize(patches_.size());
-  std::iota(patchOrder_.begin(), patchOrder_.end(), 0u);
-  if (!patches_.empty()) build(0, static_cast<std::uint32_t>(patches_.size()), leafSize);
   areaPrefix_.assign(patchOrder_.size() + 1, 0.0);
   for (std::size_t i = 0; i < patchOrder_.size(); ++i)
     areaPrefix_[i + 1] = areaPrefix_[i] + patches_[patchOrder_[i]].area;
@@ -43,7 +50,8 @@ std::uint32_t Hierarchy::build(std::uint32_t begin, std::uint32_t end, int leafS
   }
   std::vector<NodeId> kids;
   if (end - begin <= static_cast<std::uint32_t>(leafSize)) {
-    for (std::uint32_t i = begin; i < end; ++i) kids.push_back(NodeId{patchOrder_[i]});
+    // Position i in cluster order: the patch's index once patches are reordered (see above).
+    for (std::uint32_t i = begin; i < end; ++i) kids.push_back(NodeId{i});
   } else {
     Vec3 ext = cbox.extent();
     int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);

@@ -32,6 +32,10 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["seed"] = run.seed;
   j["time_s"] = {{"total", st.tTotal}, {"refine", st.tRefine}, {"visibility", st.tVisibility}, {"gather", st.tGather},
                  {"push_pull", st.tPushPull}, {"energy_check", st.tEnergy}};
+  // Per phase: wall and process CPU seconds while it ran, and how many threads did some of its work.
+  auto phase = [](const PhaseStat& p) { return json{{"wall_s", p.wall}, {"cpu_s", p.cpu}, {"threads", p.threads}}; };
+  j["phases"] = {{"visibility", phase(st.visibility)}, {"refine", phase(st.refine)}, {"gather", phase(st.gather)},
+                 {"push_pull", phase(st.pushPull)}, {"energy_check", phase(st.energy)}};
   j["counts"] = {{"initial_patches", st.initialPatches}, {"elements", st.elements}, {"leaves", st.leaves},
                  {"clusters", st.clusters}, {"links", st.links}, {"rays", st.rays}};
   j["memory_bytes"] = {{"peak_rss", peakRss}, {"links", st.linkBytes}, {"elements", st.elementBytes}};
@@ -41,6 +45,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
                  {"absorbed_w", rgb(st.absorbedW)},
                  {"absorbed_back_faces_w", rgb(st.backAbsorbedW)},
                  {"escaped_w", rgb(st.escapedW)},
+                 {"audit_std_error_w", rgb(st.auditStdErrW)},
                  {"imbalance_w", rgb(bal)}};
   j["iterations"] = st.iterations;
   j["converged"] = st.converged;

@@ -30,7 +30,8 @@ class OctaMap {
   }
   static Vec3 binDirection(int i) { return decode(Vec2((i % kRes + 0.5) / kRes, (i / kRes + 0.5) / kRes)); }
 
-  /// Bilinear lookup of the table (kBins RGB floats) at direction d.
+  /// Bilinear lookup of a table at direction d. Tables are planar: kBins reds, then greens, then
+  /// blues, so that adding a cosine lobe to every bin vectorises.
   static Rgb lookup(const float* table, const Vec3& d) {
     Vec2 uv = encode(d) * double(kRes) - Vec2(0.5);
     int x0 = static_cast<int>(std::floor(uv.x)), y0 = static_cast<int>(std::floor(uv.y));
@@ -40,8 +41,8 @@ class OctaMap {
       for (int dx = 0; dx < 2; ++dx) {
         int x = glm::clamp(x0 + dx, 0, kRes - 1), y = glm::clamp(y0 + dy, 0, kRes - 1);
         double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
-        const float* t = table + 3 * (y * kRes + x);
-        r += w * Rgb(t[0], t[1], t[2]);
+        const int b = y * kRes + x;
+        r += w * Rgb(table[b], table[kBins + b], table[2 * kBins + b]);
       }
     return r;
   }

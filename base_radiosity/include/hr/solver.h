@@ -20,7 +20,6 @@ struct SolverOptions {
   int maxIterations = 200;
   double tolerance = 1e-4;    // converged when the iteration's power change < tolerance * emitted
   std::uint64_t seed = 1;
-  int escapeRays = 64;        // rays per leaf for the independent escaped-energy estimate
   static SolverOptions from(const Settings& s);
 };
 
@@ -32,13 +31,22 @@ struct IterationStat {
   double seconds = 0.0;
 };
 
+/// One phase's cost: wall and CPU seconds (CPU of the whole process while the phase ran) and the
+/// number of distinct worker threads that did some of its work.
+struct PhaseStat {
+  double wall = 0.0, cpu = 0.0;
+  int threads = 0;
+};
+
 struct SolveStats {
   double tTotal = 0, tRefine = 0, tVisibility = 0, tGather = 0, tPushPull = 0, tEnergy = 0;
+  PhaseStat visibility, refine, gather, pushPull, energy;
   std::size_t initialPatches = 0, elements = 0, leaves = 0, clusters = 0, links = 0;
   std::uint64_t rays = 0;
   std::size_t linkBytes = 0, elementBytes = 0;
   Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel
   Rgb backAbsorbedW{0.0};  // the part of absorbedW that reached the black back of a one-sided surface
+  Rgb auditStdErrW{0.0};   // standard error of the audit's ray estimate (escaped and back faces), W
   int iterations = 0;
   bool converged = false;
   std::vector<IterationStat> history;

@@ -1,0 +1,234 @@
+// Gathering along links, and push/pull. Gathering is parallel over receivers. Push/pull walks the
+// cluster tree in parallel over subtrees: each cluster's links' normal irradiance travels down as a
+// chain of link ranges (no copies), each element subtree takes its irradiance with its own cosine,
+// radiosity is pulled up the quadtrees and cluster intensity tables are summed bottom-up.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "solver_state.h"
+
+namespace hr::detail {
+
+void gatherLinks(SolverState& s) {
+  PhaseTimer t(s.clkGather);
+  std::fill(s.Eg.begin(), s.Eg.end(), Rgb(0.0));
+  if (s.groupStart.size() < 2) return;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.groupStart.size() - 1, 16), [&](const auto& r) {
+    s.clkGather.sawThread();
+    for (std::size_t g = r.begin(); g != r.end(); ++g) {
+      Rgb sum(0.0);
+      NodeId recv = s.links[s.groupStart[g]].receiver;
+      for (std::uint32_t i = s.groupStart[g]; i < s.groupStart[g + 1]; ++i) {
+        Link& l = s.links[i];
+        Rgb e = double(l.coef) * s.senderValue(l);
+        l.E = glm::vec3(e);
+        sum += e;
+      }
+      if (!recv.isCluster()) s.Eg[recv.index()] = sum;
+    }
+  });
+}
+
+namespace {
+
+/// The octahedral map's bin directions, once, as floats laid out for the vectoriser: adding a patch's
+/// cosine lobe to a cluster table is the inner loop of the pull (53 k patches x 256 bins on the
+/// Soda Shoppe), and decoding each bin direction there cost most of push/pull.
+struct BinDirections {
+  alignas(64) float x[OctaMap::kBins], y[OctaMap::kBins], z[OctaMap::kBins];
+  BinDirections() {
+    for (int i = 0; i < OctaMap::kBins; ++i) {
+      Vec3 d = OctaMap::binDirection(i);
+      x[i] = float(d.x), y[i] = float(d.y), z[i] = float(d.z);
+    }
+  }
+};
+const BinDirections kBinDirs;
+
+/// Adds the intensity of a Lambertian patch, rad * max(0, n . w) W/sr, to every bin of a planar
+/// table.
+void addCosineLobe(float* t, const Vec3& n, const Rgb& rad) {
+  const float nx = float(n.x), ny = float(n.y), nz = float(n.z);
+  const float r = float(rad.x), g = float(rad.y), b = float(rad.z);
+  constexpr int K = OctaMap::kBins;
+  for (int i = 0; i < K; ++i) {
+    float c = std::max(0.0f, nx * kBinDirs.x[i] + ny * kBinDirs.y[i] + nz * kBinDirs.z[i]);
+    t[i] += r * c;
+    t[K + i] += g * c;
+    t[2 * K + i] += b * c;
+  }
+}
+
+/// A cluster's incoming light, as float arrays for the vectoriser: unit directions toward the
+/// senders and normal irradiance (W/m^2) per link.
+struct ClusterSamples {
+  std::vector<float> dx, dy, dz, er, eg, eb;
+};
+
+/// The samples arriving at a cluster and at all its ancestors: one cluster per level.
+struct SampleChain {
+  const ClusterSamples* here = nullptr;
+  const SampleChain* parent = nullptr;
+};
+
+class PushPull {
+ public:
+  static constexpr std::uint32_t kSerialPatches = 512;
+
+  explicit PushPull(SolverState& s) : s_(s) {
+    // Each cluster's links, packed once (links are grouped by receiver); links that brought no light
+    // are left out.
+    samples_.assign(s.h.clusters().size(), {});
+    std::vector<std::size_t> groups;
+    for (std::size_t g = 0; g + 1 < s.groupStart.size(); ++g)
+      if (s.links[s.groupStart[g]].receiver.isCluster()) groups.push_back(g);
+    tbb::parallel_for(std::size_t(0), groups.size(), [&](std::size_t i) {
+      std::size_t g = groups[i];
+      ClusterSamples& cs = samples_[s.links[s.groupStart[g]].receiver.index()];
+      for (std::uint32_t k = s.groupStart[g]; k < s.groupStart[g + 1]; ++k) {
+        const Link& l = s.links[k];
+        if (l.E == glm::vec3(0.0f)) continue;
+        cs.dx.push_back(l.dir.x), cs.dy.push_back(l.dir.y), cs.dz.push_back(l.dir.z);
+        cs.er.push_back(l.E.x), cs.eg.push_back(l.E.y), cs.eb.push_back(l.E.z);
+      }
+      while (cs.dx.size() % 4 != 0) {
+        cs.dx.push_back(0.0f), cs.dy.push_back(0.0f), cs.dz.push_back(1.0f);
+        cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
+      }
+    });
+  }
+
+  void run() {
+    SampleChain none;
+    cluster(0, none);
+  }
+
+ private:
+  /// Pushes irradiance down an element subtree and pulls radiosity up; returns area * B.
+  Rgb element(std::uint32_t e, const Rgb& down) {
+    Rgb total = down + s_.Eg[e];
+    const Element& el = s_.h.element(e);
+    s_.Et[e] = total;
+    if (el.leaf()) {
+      s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
+      return s_.B[e] * el.area;
+    }
+    Rgb sum(0.0);
+    for (std::uint32_t k = 0; k < 4; ++k) sum += element(el.firstChild + k, total);
+    s_.B[e] = sum / el.area;
+    return sum;
+  }
+
+  /// Irradiance on a plane with normal n from every sample in the chain: sum of E_perp max(0, n.w).
+  static Rgb irradianceFrom(const SampleChain& chain, const Vec3& n) {
+    const float nx = float(n.x), ny = float(n.y), nz = float(n.z);
+    Rgb down(0.0);
+    for (const SampleChain* c = &chain; c; c = c->parent) {
+      if (!c->here) continue;
+      const ClusterSamples& cs = *c->here;
+      // Four lanes at a time (GCC/Clang vector extensions: the plain loop stayed scalar, a reduction
+      // the compiler may not reorder); the arrays are padded with zero-light samples to a multiple of 4.
+      using V4 = float __attribute__((vector_size(16)));
+      V4 r{}, g{}, b{};
+      for (std::size_t i = 0; i < cs.dx.size(); i += 4) {
+        V4 x, y, z, er, eg, eb;
+        std::memcpy(&x, &cs.dx[i], 16), std::memcpy(&y, &cs.dy[i], 16), std::memcpy(&z, &cs.dz[i], 16);
+        std::memcpy(&er, &cs.er[i], 16), std::memcpy(&eg, &cs.eg[i], 16), std::memcpy(&eb, &cs.eb[i], 16);
+        V4 w = nx * x + ny * y + nz * z;
+        w = w > 0.0f ? w : V4{};
+        r += er * w, g += eg * w, b += eb * w;
+      }
+      // Float within a cluster's links, double across levels.
+      for (int j = 0; j < 4; ++j) down += Rgb(r[j], g[j], b[j]);
+    }
+    return down;
+  }
+
+  void cluster(std::uint32_t c, const SampleChain& up) {
+    SampleChain here{&samples_[c], &up};
+    const Cluster& cl = s_.h.cluster(c);
+    auto child = [&](std::size_t k) {
+      NodeId kid = cl.children[k];
+      if (kid.isCluster()) {
+        cluster(kid.index(), here);
+        return;
+      }
+      element(kid.index(), irradianceFrom(here, s_.h.element(kid.index()).normal));
+    };
+    // Tasks for large subtrees only: a task per small cluster cost more than its work.
+    if (cl.patchEnd - cl.patchBegin > kSerialPatches) {
+      tbb::parallel_for(std::size_t(0), cl.children.size(), [&](std::size_t k) {
+        s_.clkPushPull.sawThread();
+        child(k);
+      });
+    } else {
+      for (std::size_t k = 0; k < cl.children.size(); ++k) child(k);
+    }
+    if (s_.tableSlot[c] == kNone)
+      exactPeak(c);
+    else
+      tablePull(c);
+  }
+
+  /// A large cluster's table: its child clusters' tables (or, for those evaluated exactly, their
+  /// patches' cosine lobes) plus its own patches' lobes.
+  void tablePull(std::uint32_t c) {
+    const Cluster& cl = s_.h.cluster(c);
+    float* t = s_.clusterTable(c);
+    constexpr int N = OctaMap::kBins * 3;
+    std::fill(t, t + N, 0.0f);
+    for (NodeId kid : cl.children) {
+      if (kid.isCluster() && s_.tableSlot[kid.index()] != kNone) {
+        const float* tk = s_.clusterTable(kid.index());
+        for (int i = 0; i < N; ++i) t[i] += tk[i];
+        continue;
+      }
+      if (kid.isCluster()) {
+        const Cluster& kc = s_.h.cluster(kid.index());
+        for (std::uint32_t i = kc.patchBegin; i < kc.patchEnd; ++i) addPatch(t, s_.h.patchOrder()[i]);
+      } else {
+        addPatch(t, kid.index());
+      }
+    }
+    // The cosine-free bound of the cluster's sending side, read by the oracle for every link.
+    double m = 0.0;
+    for (int i = 0; i < OctaMap::kBins; ++i)
+      m = std::max(m, luminance(Rgb(t[i], t[OctaMap::kBins + i], t[2 * OctaMap::kBins + i])));
+    s_.peak[c] = m;
+  }
+  void addPatch(float* t, std::uint32_t p) {
+    const Patch& pt = s_.h.patches()[p];
+    addCosineLobe(t, pt.normal, s_.B[p] * (pt.area / kPi));
+  }
+
+  /// A small cluster's peak intensity, estimated in O(patches): its exact intensity toward the
+  /// power-weighted mean normal (where a sum of cosine lobes of similar normals peaks), or its
+  /// brightest patch's own peak if that is more.
+  void exactPeak(std::uint32_t c) {
+    const Cluster& cl = s_.h.cluster(c);
+    Vec3 mean(0.0);
+    double single = 0.0;
+    for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
+      const Patch& p = s_.h.patches()[s_.h.patchOrder()[i]];
+      double w = luminance(s_.B[s_.h.patchOrder()[i]]) * p.area;
+      mean += p.normal * w;
+      single = std::max(single, w / kPi);
+    }
+    double m = glm::length(mean) > 0.0 ? luminance(s_.clusterIntensity(c, glm::normalize(mean))) : 0.0;
+    s_.peak[c] = std::max(m, single);
+  }
+
+  SolverState& s_;
+  std::vector<ClusterSamples> samples_;
+};
+
+}  // namespace
+
+void pushPull(SolverState& s) {
+  PhaseTimer t(s.clkPushPull);
+  PushPull(s).run();
+}
+
+}  // namespace hr::detail

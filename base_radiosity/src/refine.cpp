@@ -1,0 +1,219 @@
+// Link refinement: the oracle, the split of a link into its children's links, and the receiver pass.
+// Every round evaluates new links and takes its decisions in parallel from the state at the start of
+// the round; only the structural step (subdividing elements, which appends nodes) is serial, in link
+// order, so the hierarchy and the links are the same whatever the thread count.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "solver_state.h"
+
+namespace hr::detail {
+namespace {
+
+enum class Action : std::uint8_t { Keep, Drop, SplitSender, SplitReceiver, SplitSelf };
+
+bool canSplit(const SolverState& s, NodeId n) {
+  if (n.isCluster()) return !s.h.cluster(n.index()).children.empty();
+  const Element& e = s.h.element(n.index());
+  return e.level < static_cast<std::uint32_t>(s.opt.maxLevel) && e.area * 0.25 >= s.minArea;
+}
+
+/// The oracle: estimated error of the power the link brings to its receiver, W (luminance): the
+/// receiver's area times the sender's value times the transfer bound times its relative spread.
+double linkError(const SolverState& s, const Link& l) {
+  double S = luminance(s.senderValue(l));
+  if (l.sender.isCluster()) S = std::max(S, s.peak[l.sender.index()]);
+  // A cluster catches light with its projected area, on average a quarter of its surface area
+  // (Cauchy's formula for convex bodies; an estimate for the rest).
+  double area = s.h.area(l.receiver) * (l.receiver.isCluster() ? 0.25 : 1.0);
+  double uncertainty = std::max<double>(l.spread, l.geom);
+  return area * S * l.bound * uncertainty;
+}
+
+Action decide(const SolverState& s, const Link& l, double threshold) {
+  if (l.sender == l.receiver) return l.sender.isCluster() ? Action::SplitSelf : Action::Drop;
+  bool cs = canSplit(s, l.sender), cr = canSplit(s, l.receiver);
+  if ((cs || cr) && linkError(s, l) > threshold) {
+    // The larger node is split.
+    bool splitSender = cs && (!cr || s.h.radius(l.sender) > s.h.radius(l.receiver));
+    return splitSender ? Action::SplitSender : Action::SplitReceiver;
+  }
+  // Kept even when every ray was blocked: the link may be partly visible, and its sender may
+  // brighten later; dropping such links for good lost 1-2 % of a room's power.
+  return l.bound > 0.0f ? Action::Keep : Action::Drop;
+}
+
+/// Number of child links a decision makes.
+std::size_t childCount(const SolverState& s, const Link& l, Action a) {
+  switch (a) {
+    case Action::SplitSender: return s.h.children(l.sender).size();
+    case Action::SplitReceiver: return s.h.children(l.receiver).size();
+    case Action::SplitSelf: {
+      // Every ordered pair of children, and the children's self-links (clusters only).
+      auto kids = s.h.children(l.sender);
+      std::size_t n = kids.size() * kids.size();
+      for (NodeId k : kids) n -= k.isCluster() ? 0 : 1;
+      return n;
+    }
+    default: return 0;
+  }
+}
+
+void writeChildren(const SolverState& s, const Link& l, Action a, Link* out) {
+  auto make = [&](NodeId snd, NodeId rcv) {
+    *out = Link{};
+    out->sender = snd;
+    out->receiver = rcv;
+    ++out;
+  };
+  if (a == Action::SplitSelf) {
+    auto kids = s.h.children(l.sender);
+    for (NodeId x : kids)
+      for (NodeId y : kids)
+        if (!(x == y) || x.isCluster()) make(x, y);
+  } else if (a == Action::SplitSender) {
+    for (NodeId k : s.h.children(l.sender)) make(k, l.receiver);
+  } else if (a == Action::SplitReceiver) {
+    for (NodeId k : s.h.children(l.receiver)) make(l.sender, k);
+  }
+}
+
+/// Subdivides the elements the decisions name (serial, in link order: element ids then do not
+/// depend on the thread count) and tells the extension about leaves it simulates.
+void subdivideNamed(SolverState& s, const std::vector<Link>& links, const std::vector<Action>& act) {
+  std::size_t before = s.h.elements().size();
+  std::vector<std::uint32_t> fresh;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    NodeId n = act[i] == Action::SplitSender ? links[i].sender : act[i] == Action::SplitReceiver ? links[i].receiver : NodeId{};
+    if (n.value == kNone || n.isCluster() || !s.h.element(n.index()).leaf()) continue;
+    s.h.subdivide(n.index());
+    fresh.push_back(n.index());
+  }
+  if (s.h.elements().size() == before) return;
+  s.growArrays();
+  if (!s.ext) return;
+  for (std::uint32_t e : fresh)
+    if (s.owned[e]) s.ext->split(NodeId{e}, s.h.children(NodeId{e}));
+}
+
+/// Replaces `links` by the children of the split ones; appends the kept ones to `kept`.
+std::size_t applyDecisions(SolverState& s, std::vector<Link>& links, const std::vector<Action>& act,
+                           std::vector<Link>& kept) {
+  subdivideNamed(s, links, act);
+  std::vector<std::size_t> offset(links.size() + 1, 0);
+  std::size_t splits = 0;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    offset[i + 1] = offset[i] + childCount(s, links[i], act[i]);
+    splits += offset[i + 1] > offset[i] ? 1 : 0;
+    if (act[i] == Action::Keep) kept.push_back(links[i]);
+  }
+  std::vector<Link> next(offset.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      if (offset[i + 1] > offset[i]) writeChildren(s, links[i], act[i], next.data() + offset[i]);
+  });
+  links = std::move(next);
+  return splits;
+}
+
+/// The receiver pass. The per-link oracle bounds each link's error alone, but a receiver near an
+/// edge or corner holds hundreds of links whose small errors share one sign (every one of them
+/// averages the form factor over a receiver that straddles a steep gradient), and a leaf's
+/// form-factor sum came out 5 % off in a closed cube. So for every element receiver that can still
+/// split, the irradiance its element links deliver is also evaluated at its corners and centre; if
+/// area * (max - min) exceeds the threshold, the receiver is subdivided and all its links move down
+/// to the children (where the per-link oracle sees them again). Only receivers that gained links
+/// since kept[from] are examined (all of them on the first pass of an iteration: senders changed).
+/// Returns the receivers split.
+std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t from, std::vector<Link>& out,
+                         double threshold) {
+  const std::size_t E = s.h.elements().size();
+  std::vector<std::uint8_t> check(E, 0);
+  for (std::size_t i = from; i < kept.size(); ++i) {
+    NodeId r = kept[i].receiver;
+    if (!r.isCluster() && canSplit(s, r)) check[r.index()] = 1;
+  }
+  // The links of the receivers to check, grouped by receiver (stable: deterministic).
+  std::vector<std::uint32_t> idx;
+  for (std::uint32_t i = 0; i < kept.size(); ++i)
+    if (!kept[i].receiver.isCluster() && check[kept[i].receiver.index()]) idx.push_back(i);
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return kept[a].receiver.value < kept[b].receiver.value; });
+  std::vector<std::uint32_t> start;
+  for (std::uint32_t i = 0; i < idx.size(); ++i)
+    if (i == 0 || !(kept[idx[i]].receiver == kept[idx[i - 1]].receiver)) start.push_back(i);
+  start.push_back(static_cast<std::uint32_t>(idx.size()));
+  const std::size_t groups = start.size() - 1;
+  std::vector<std::uint8_t> splitIt(groups, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 16), [&](const auto& r) {
+    s.clkRefine.sawThread();
+    for (std::size_t g = r.begin(); g != r.end(); ++g) {
+      NodeId recv = kept[idx[start[g]]].receiver;
+      double e[5] = {0, 0, 0, 0, 0};
+      for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) {
+        const Link& l = kept[idx[i]];
+        if (l.sender.isCluster() || l.bound <= 0.0f) continue;
+        double S = luminance(s.senderValue(l)) * (double(l.coef) / l.bound);  // times the visible fraction
+        for (int k = 0; k < 5; ++k) e[k] += S * l.at[k];
+      }
+      auto [lo, hi] = std::minmax_element(e, e + 5);
+      splitIt[g] = s.h.area(recv) * (*hi - *lo) > threshold ? 1 : 0;
+    }
+  });
+  // Every link of a split receiver becomes a SplitReceiver decision; the rest stay kept, in order.
+  std::vector<Action> act(kept.size(), Action::Keep);
+  std::size_t count = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    if (!splitIt[g]) continue;
+    ++count;
+    for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) act[idx[i]] = Action::SplitReceiver;
+  }
+  if (count == 0) return 0;
+  std::vector<Link> stay;
+  stay.reserve(kept.size());
+  applyDecisions(s, kept, act, stay);
+  out.swap(kept);
+  kept.swap(stay);
+  return count;
+}
+
+}  // namespace
+
+std::size_t refineLinks(SolverState& s) {
+  std::vector<Link> pending = std::move(s.links), kept;
+  s.links.clear();
+  kept.reserve(pending.size() + pending.size() / 4);
+  std::size_t splitCount = 0, checkedFrom = 0;
+  const double threshold = s.opt.eps * s.emittedPower;
+  while (!pending.empty()) {
+    {
+      PhaseTimer t(s.clkVisibility);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 64), [&](const auto& r) {
+        s.clkVisibility.sawThread();
+        std::uint64_t n = 0;
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+          if (!pending[i].evaluated) n += std::uint64_t(evaluateLink(s, pending[i]));
+        s.rays += n;
+      });
+    }
+    PhaseTimer t(s.clkRefine);
+    std::vector<Action> act(pending.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 256), [&](const auto& r) {
+      s.clkRefine.sawThread();
+      for (std::size_t i = r.begin(); i != r.end(); ++i) act[i] = decide(s, pending[i], threshold);
+    });
+    splitCount += applyDecisions(s, pending, act, kept);
+    if (pending.empty()) {
+      splitCount += receiverPass(s, kept, checkedFrom, pending, threshold);
+      checkedFrom = kept.size();  // receivers checked now need no second look unless they gain links
+    }
+  }
+  PhaseTimer t(s.clkRefine);
+  s.links = std::move(kept);
+  s.groupByReceiver(s.links, s.groupStart);
+  return splitCount;
+}
+
+}  // namespace hr::detail

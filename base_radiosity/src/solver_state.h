@@ -1,0 +1,123 @@
+// The solver's shared state, internal to base_radiosity: the per-node arrays every phase reads or
+// writes (radiosity, irradiance, cluster intensity tables), the links, and the small helpers the
+// phases share (a node's material, a sender's light toward a receiver). Each phase lives in a file of
+// its own (transfer.cpp, refine.cpp, push_pull.cpp, energy_audit.cpp) and works on this state.
+#pragma once
+#include <hr/octamap.h>
+#include <hr/rng.h>
+#include <hr/solver.h>
+
+#include <atomic>
+#include <chrono>
+#include <vector>
+
+namespace hr::detail {
+
+struct Link {
+  NodeId sender, receiver;
+  float coef = 0.0f;    // element receiver: irradiance per unit sender quantity; cluster: E_perp per unit
+  float spread = 0.0f;  // relative uncertainty of coef from its samples
+  float geom = 0.0f;    // (r_s + r_r) / d for links with a cluster end, 0 otherwise
+  float bound = 0.0f;   // coef with cosines replaced by 1: the oracle's upper bound
+  glm::vec3 dir{0.0f};  // receiver -> sender, unit
+  glm::vec3 E{0.0f};    // last transported irradiance (element) or normal irradiance (cluster), W/m^2
+  float at[5] = {};     // element-element links: unoccluded point form factors at the receiver's
+                        // corners (pulled inward; a triangle repeats its centre) and centre
+  float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
+  bool evaluated = false;
+};
+
+/// Wall and CPU time of the phases, and how many distinct threads worked in each: a phase that
+/// should be parallel but ran on one thread shows here (and fails a test).
+struct PhaseClock {
+  double wall = 0.0, cpu = 0.0;
+  std::atomic<std::uint64_t> threadMask{0};
+  void sawThread();  // call from inside the phase's parallel bodies
+  int threads() const;
+};
+
+class PhaseTimer {
+ public:
+  explicit PhaseTimer(PhaseClock& c);
+  ~PhaseTimer();
+
+ private:
+  PhaseClock& c_;
+  std::chrono::steady_clock::time_point w0_;
+  double c0_;
+};
+
+double processCpuSeconds();
+
+struct SolverState {
+  SolverState(const Scene& s, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e)
+      : scene(s), h(hi), vis(v), opt(o), ext(e) {}
+  const Scene& scene;
+  Hierarchy& h;
+  const Visibility& vis;
+  SolverOptions opt;
+  Extension* ext;
+
+  std::vector<Rgb> B, Bprev, Eg, Et;  // per element: radiosity, previous, gathered, total irradiance
+  std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
+  std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly
+  std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
+  std::vector<std::uint8_t> owned;    // per element: its subtree holds a surface the extension simulates
+  std::vector<std::uint8_t> clusterOwned;
+  std::vector<Link> links;            // sorted by receiver after refinement
+  std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
+  double emittedPower = 0.0;             // luminance, W
+  double minArea = 0.0;
+  std::atomic<std::uint64_t> rays{0};
+  PhaseClock clkVisibility, clkRefine, clkGather, clkPushPull, clkEnergy;
+
+  const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
+  Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
+  bool isOwned(NodeId n) const { return n.isCluster() ? clusterOwned[n.index()] != 0 : owned[n.index()] != 0; }
+  /// Clusters of at most this many patches send their exact Lambertian intensity (a sum of cosine
+  /// lobes) instead of a table: more accurate, and 85 % of the Soda Shoppe's clusters need no table.
+  static constexpr std::uint32_t kExactPatches = 16;
+  const float* clusterTable(std::uint32_t c) const { return &table[std::size_t(tableSlot[c]) * OctaMap::kBins * 3]; }
+  float* clusterTable(std::uint32_t c) { return &table[std::size_t(tableSlot[c]) * OctaMap::kBins * 3]; }
+  /// Assigns table slots (clusters of more than kExactPatches patches) and sizes the tables.
+  void allocateTables();
+  /// A cluster's Lambertian exitant intensity toward unit dir, W/sr.
+  Rgb clusterIntensity(std::uint32_t c, const Vec3& dir) const;
+
+  /// Sizes the per-element arrays after subdivision; a new child starts with its parent's values
+  /// so that refinement does not perturb the solution.
+  void growArrays();
+  /// The sender's quantity for a link: radiosity for elements (W/m^2), intensity toward the
+  /// receiver for clusters (W/sr), the extension's share included.
+  Rgb senderValue(const Link& l) const;
+  /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
+  void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
+  /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.
+  Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal) const;
+  Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
+};
+
+/// Transfer evaluation of a new link: coefficient, bound, spread, direction, shadow rays. Returns the
+/// number of rays traced. Thread-safe (reads the state, writes only the link).
+int evaluateLink(const SolverState& s, Link& l);
+
+/// One refinement pass over every link: evaluates new links (parallel), decides (parallel), splits
+/// (serial structural step), until no link changes; then groups links by receiver. Returns splits.
+std::size_t refineLinks(SolverState& s);
+
+/// Gathers every link's light to its receiver (parallel over receivers).
+void gatherLinks(SolverState& s);
+/// Pushes irradiance down and pulls radiosity and cluster intensities up (parallel over subtrees).
+void pushPull(SolverState& s);
+/// Cluster intensities from the current radiosity alone (before the first gather).
+void pullOnly(SolverState& s);
+
+struct AuditResult {
+  Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};
+  Rgb escapedStdErrW{0.0};  // standard error of the ray estimate of escaped + back-face power
+  std::uint64_t rays = 0;
+};
+/// The independent energy audit (see energy_audit.cpp).
+AuditResult auditEnergy(SolverState& s);
+
+}  // namespace hr::detail
