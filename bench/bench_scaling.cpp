@@ -1,0 +1,147 @@
+// Parallel scaling of the solver and the reference tracer, in one run: the Soda Shoppe (straight from
+// its MGF file) and the Cornell box at a fine threshold are solved, and the Cornell box path-traced at
+// 256 spp, with 1, 2, 4, ... threads up to the machine's cores. Per phase: wall time, speedup over
+// one thread, parallel efficiency and CPU time / wall time (CPU of the whole process while the phase
+// ran). Each run is a forked child, so that thread pools and memory start fresh.
+//   bench_scaling [SOURCE_DIR] [--quick]   (--quick: Cornell at 2e-4 and 32 spp only)
+#include <hr/output.h>
+#include <hr/solver.h>
+#include <ref/path_tracer.h>
+#include <sys/wait.h>
+#include <tbb/global_control.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+constexpr int kPhases = 6;
+const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull", "energy", "total"};
+
+struct Row {
+  double wall[kPhases] = {}, cpu[kPhases] = {};
+  bool ok = false;
+};
+
+double cpuNow() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+Row solveRun(const std::string& scene, double eps, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  hr::Scene sc = scene.empty() ? hr::defaultScene() : hr::loadScene(scene);
+  hr::TessellationReport rep;
+  hr::Hierarchy h(hr::buildPatches(sc, rep));
+  hr::Visibility vis(h.patches());
+  hr::SolverOptions o = hr::SolverOptions::from(sc.settings);
+  o.eps = eps;
+  double c0 = cpuNow();
+  hr::Solver solver(sc, h, vis, o);
+  hr::SolveStats st = solver.solve();
+  Row r;
+  const hr::PhaseStat* ph[5] = {&st.visibility, &st.refine, &st.gather, &st.pushPull, &st.energy};
+  for (int i = 0; i < 5; ++i) r.wall[i] = ph[i]->wall, r.cpu[i] = ph[i]->cpu;
+  r.wall[5] = st.tTotal;
+  r.cpu[5] = cpuNow() - c0;
+  r.ok = true;
+  return r;
+}
+
+Row traceRun(int spp, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  hr::Scene sc = hr::defaultScene();
+  hr::TessellationReport rep;
+  ref::PathTracer pt(sc, hr::buildPatches(sc, rep));
+  ref::Options o;
+  o.spp = spp;
+  double c0 = cpuNow();
+  auto w0 = std::chrono::steady_clock::now();
+  for (const hr::Camera& cam : sc.cameras) pt.render(cam, o);
+  Row r;
+  r.wall[5] = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  r.cpu[5] = cpuNow() - c0;
+  r.ok = true;
+  return r;
+}
+
+template <class F>
+Row forked(F&& run) {
+  int fd[2];
+  if (pipe(fd) != 0) return {};
+  pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    Row r = run();
+    ssize_t w = write(fd[1], &r, sizeof r);
+    _exit(w == ssize_t(sizeof r) ? 0 : 1);
+  }
+  close(fd[1]);
+  Row r;
+  ssize_t got = read(fd[0], &r, sizeof r);
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (got != ssize_t(sizeof r) || !WIFEXITED(status) || WEXITSTATUS(status) != 0) r.ok = false;
+  return r;
+}
+
+void table(const char* title, const std::vector<int>& threads, const std::vector<Row>& rows, bool phases) {
+  std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall");
+  for (int p = phases ? 0 : kPhases - 1; p < kPhases; ++p)
+    for (std::size_t i = 0; i < threads.size(); ++i) {
+      const Row& r = rows[i];
+      if (!r.ok) {
+        std::printf("%-11s %7d   failed\n", kPhaseNames[p], threads[i]);
+        continue;
+      }
+      double speedup = rows[0].wall[p] / std::max(r.wall[p], 1e-12);
+      std::printf("%-11s %7d %9.3f %8.2f %8.2f %8.2f\n", kPhaseNames[p], threads[i], r.wall[p], speedup,
+                  speedup / threads[i], r.cpu[p] / std::max(r.wall[p], 1e-12));
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string src = GHR_SOURCE_DIR;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0)
+      quick = true;
+    else
+      src = argv[i];
+  }
+  int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<int> threads = {1};
+  for (int t = 2; t <= std::max(2, cores); t *= 2) threads.push_back(t);
+  if (threads.back() != cores && cores > 2) threads.push_back(cores);
+  std::printf("bench_scaling: %d hardware threads; runs with", cores);
+  for (int t : threads) std::printf(" %d", t);
+  std::printf(" threads\n");
+
+  struct Job {
+    std::string title, scene;
+    double eps;
+  };
+  std::vector<Job> jobs;
+  if (!quick) jobs.push_back({"solve: Soda Shoppe (scenes/mgf/soda.mgf), eps 2e-4", src + "/scenes/mgf/soda.mgf", 2e-4});
+  jobs.push_back({quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5});
+  for (const Job& j : jobs) {
+    std::vector<Row> rows;
+    for (int t : threads) rows.push_back(forked([&] { return solveRun(j.scene, j.eps, t); }));
+    table(j.title.c_str(), threads, rows, true);
+  }
+  const int spp = quick ? 32 : 256;
+  std::vector<Row> rows;
+  for (int t : threads) rows.push_back(forked([&] { return traceRun(spp, t); }));
+  table(("reference: Cornell box, " + std::to_string(spp) + " spp").c_str(), threads, rows, false);
+  return 0;
+}
