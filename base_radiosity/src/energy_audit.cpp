@@ -42,9 +42,13 @@ LeafAudit auditLeaf(const SolverState& s, std::uint32_t i, double sent) {
   constexpr double kGolden = 0.6180339887498949;
   for (int k = 0; k < M; ++k) {
     Vec3 o = e.poly.sample(rng.uniform(), rng.uniform());
+    if (s.vis.coverOf(e.patch, o) != kNone) {  // under a coplanar patch: caught by its black back
+      ++backHits;
+      continue;
+    }
     double phi = 2.0 * kPi * std::fmod(shift + k * kGolden, 1.0), r = std::sqrt((k + rng.uniform()) / M);
     Vec3 d = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(std::max(0.0, 1.0 - r * r)) * e.normal;
-    SurfaceHit hit = s.vis.intersect(s.lifted(e, o), d);
+    SurfaceHit hit = s.vis.intersectFrom(o, d, e.patch);
     if (!hit.hit)
       ++miss;
     else if (glm::dot(s.h.patches()[hit.patch].normal, d) > 0.0)

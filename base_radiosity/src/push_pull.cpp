@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include "solver_state.h"
 
@@ -113,11 +114,18 @@ class PushPull {
     s_.Et[e] = total;
     if (el.leaf()) {
       s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
+      s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
       return s_.B[e] * el.area;
     }
     Rgb sum(0.0);
-    for (std::uint32_t k = 0; k < 4; ++k) sum += element(el.firstChild + k, total);
+    float lo = std::numeric_limits<float>::max(), hi = 0.0f;
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      sum += element(el.firstChild + k, total);
+      lo = std::min(lo, s_.Bmin[el.firstChild + k]);
+      hi = std::max(hi, s_.Bmax[el.firstChild + k]);
+    }
     s_.B[e] = sum / el.area;
+    s_.Bmin[e] = lo, s_.Bmax[e] = hi;
     return sum;
   }
 

@@ -36,12 +36,15 @@ void SolverState::growArrays() {
   Eg.resize(n, Rgb(0.0));
   Et.resize(n, Rgb(0.0));
   owned.resize(n, 0);
+  Bmin.resize(n);
+  Bmax.resize(n);
   for (std::size_t i = old; i < n; ++i) {
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
     Bprev[i] = B[i];
     Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
     owned[i] = e.parent == kNone ? 0 : owned[e.parent];
+    Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
   }
 }
 
@@ -110,14 +113,16 @@ void SolverState::groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_
   start.push_back(static_cast<std::uint32_t>(v.size()));
 }
 
-/// A point on a node's surface, lifted off it along its normal by the visibility epsilon: rays
-/// from points within ~1e-4 of a neighbouring face (a cube's edge) otherwise graze that face in
-/// single precision and report a hit, which made every link of such a point look blocked.
-Vec3 SolverState::pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal) const {
+/// A point on a node's surface (not lifted: see liftPair in transfer.cpp). Shadow-ray ends are
+/// lifted off their surfaces along the normal: rays from points within ~1e-4 of a neighbouring face
+/// (a cube's edge) otherwise graze that face in single precision and report a hit, which made every
+/// link of such a point look blocked.
+Vec3 SolverState::pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal, std::uint32_t* patch) const {
   if (!n.isCluster()) {
     const Element& e = h.element(n.index());
     normal = e.normal;
-    return lifted(e, e.poly.sample(u, w));
+    if (patch) *patch = e.patch;
+    return e.poly.sample(u, w);
   }
   const Cluster& c = h.cluster(n.index());
   const auto& pre = h.patchAreaPrefix();
@@ -126,7 +131,8 @@ Vec3 SolverState::pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal) 
   std::size_t idx = std::clamp<std::size_t>(std::size_t(it - pre.begin()) - 1, c.patchBegin, c.patchEnd - 1);
   const Patch& p = h.patches()[h.patchOrder()[idx]];
   normal = p.normal;
-  return p.poly.sample(rng.uniform(), w) + p.normal * vis.epsilon();
+  if (patch) *patch = h.patchOrder()[idx];
+  return p.poly.sample(rng.uniform(), w);
 }
 
 }  // namespace hr::detail

@@ -59,6 +59,7 @@ struct SolverState {
   Extension* ext;
 
   std::vector<Rgb> B, Bprev, Eg, Et;  // per element: radiosity, previous, gathered, total irradiance
+  std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
   std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
   std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
@@ -93,7 +94,7 @@ struct SolverState {
   /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
   void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.
-  Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal) const;
+  Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal, std::uint32_t* patch = nullptr) const;
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
 };
 

@@ -18,12 +18,37 @@ void onEmbreeError(void* user, RTCError code, const char* msg) {
   std::fprintf(stderr, "%s\n", last->c_str());
 }
 
+/// An intersect context that carries the patch a ray leaves, for the filter below.
+struct FromContext {
+  RTCIntersectContext ctx;
+  const std::uint32_t* triToPatch;
+  const Vec3* normals;
+  std::uint32_t from;
+  float nearCut;  // coplanar hits closer than this are ignored
+};
+
+void ignoreOrigin(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const FromContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    std::uint32_t p = c->triToPatch[RTCHitN_primID(args->hit, args->N, i)];
+    if (p == c->from) {
+      args->valid[i] = 0;
+      continue;
+    }
+    float t = RTCRayN_tfar(args->ray, args->N, i);
+    if (t < c->nearCut && glm::dot(c->normals[p], c->normals[c->from]) > 1.0 - 1e-9) args->valid[i] = 0;
+  }
+}
+
 }  // namespace
 
 struct Visibility::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<std::uint32_t> triToPatch;
+  std::vector<Vec3> normals;
+  std::unique_ptr<CoplanarCover> cover;
   std::string lastError;
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -43,7 +68,7 @@ Visibility::Visibility(const std::vector<Patch>& patches) : impl_(std::make_uniq
   rtcSetDeviceErrorFunction(impl_->device, onEmbreeError, &impl_->lastError);
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   Aabb box;
   std::size_t tris = 0;
   for (const Patch& p : patches) {
@@ -51,6 +76,8 @@ Visibility::Visibility(const std::vector<Patch>& patches) : impl_(std::make_uniq
     for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
   }
   eps_ = glm::max(1e-5 * box.diagonal(), 1e-30);
+  impl_->cover = std::make_unique<CoplanarCover>(patches, eps_);
+  for (const Patch& p : patches) impl_->normals.push_back(p.normal);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                          3 * sizeof(float), tris * 3));
@@ -143,9 +170,27 @@ bool Visibility::escapes(const Vec3& org, const Vec3& dir) const {
   return r.tfar >= 0.0f;
 }
 
+std::uint32_t Visibility::coverOf(std::uint32_t p, const Vec3& x) const { return impl_->cover->coverOf(p, x); }
+
+SurfaceHit Visibility::intersectFrom(const Vec3& org, const Vec3& dir, std::uint32_t from) const {
+  FromContext c;
+  rtcInitIntersectContext(&c.ctx);
+  c.ctx.filter = ignoreOrigin;
+  c.triToPatch = impl_->triToPatch.data();
+  c.normals = impl_->normals.data();
+  c.from = from;
+  c.nearCut = static_cast<float>(eps_ / std::max(glm::length(dir), 1e-300));
+  return trace(org, dir, &c.ctx);
+}
+
 SurfaceHit Visibility::intersect(const Vec3& org, const Vec3& dir) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
+  return trace(org, dir, &ctx);
+}
+
+SurfaceHit Visibility::trace(const Vec3& org, const Vec3& dir, void* context) const {
+  auto* ctxp = static_cast<RTCIntersectContext*>(context);
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(org.x);
   rh.ray.org_y = static_cast<float>(org.y);
@@ -161,7 +206,7 @@ SurfaceHit Visibility::intersect(const Vec3& org, const Vec3& dir) const {
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
+  rtcIntersect1(impl_->scene, ctxp, &rh);
   SurfaceHit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.hit = true;

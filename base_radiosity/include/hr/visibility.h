@@ -1,6 +1,7 @@
 // Embree 3 behind one small class: shadow segments (bundled 16 at a time, as the rays of one link
 // are) and primary-ray intersection for rendering. Everything else in the project sees only this.
 #pragma once
+#include <hr/coplanar.h>
 #include <hr/geometry.h>
 
 #include <memory>
@@ -28,12 +29,19 @@ class Visibility {
   /// True when the ray from org along unit dir hits nothing (used for escaped energy).
   bool escapes(const Vec3& org, const Vec3& dir) const;
   SurfaceHit intersect(const Vec3& org, const Vec3& dir) const;
+  /// Closest hit of a ray leaving patch `from` at org (a point on it, not lifted): hits on `from`
+  /// itself and, within epsilon() of org, on patches in its plane facing its way are ignored. Two
+  /// surfaces closer than the lift of a lifted origin (facing lamps 1e-6 m apart) stay apart.
+  SurfaceHit intersectFrom(const Vec3& org, const Vec3& dir, std::uint32_t from) const;
+  /// The patch that covers point x of patch p where coplanar patches overlap (coplanar.h), or kNone.
+  std::uint32_t coverOf(std::uint32_t p, const Vec3& x) const;
   /// Absolute trimming distance: a small fraction of the scene's size, so scaled scenes behave alike.
   double epsilon() const { return eps_; }
   /// The raw Embree scene, for benchmarks that compare against plain rtcOccluded1 loops.
   void* rawScene() const;
 
  private:
+  SurfaceHit trace(const Vec3& org, const Vec3& dir, void* context) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   double eps_ = 1e-6;

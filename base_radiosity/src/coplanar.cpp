@@ -1,0 +1,103 @@
+// Coplanar overlap detection: patches are bucketed by their plane (quantised normal and offset, either
+// facing), and
+// pairs inside a bucket are tested for interior overlap of their convex polygons (separating axes in
+// the plane), so adjacent faces of one mesh, which only share an edge, do not count.
+#include <hr/coplanar.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+namespace hr {
+namespace {
+
+/// Interior overlap of two convex planar polygons with unit normal n, by separating axes: the edge
+/// normals of both; a gap or mere touching (up to tol) on any axis separates them.
+bool interiorsOverlap(const Polygon& a, const Polygon& b, const Vec3& n, double tol) {
+  for (const Polygon* p : {&a, &b})
+    for (int i = 0; i < p->n; ++i) {
+      Vec3 axis = glm::cross(n, p->v[(i + 1) % p->n] - p->v[i]);
+      double len = glm::length(axis);
+      if (len == 0.0) continue;
+      axis /= len;
+      double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
+      for (int k = 0; k < a.n; ++k) lo1 = std::min(lo1, glm::dot(axis, a.v[k])), hi1 = std::max(hi1, glm::dot(axis, a.v[k]));
+      for (int k = 0; k < b.n; ++k) lo2 = std::min(lo2, glm::dot(axis, b.v[k])), hi2 = std::max(hi2, glm::dot(axis, b.v[k]));
+      if (hi1 <= lo2 + tol || hi2 <= lo1 + tol) return false;
+    }
+  return true;
+}
+
+bool inside(const Polygon& p, const Vec3& n, const Vec3& x) {
+  for (int i = 0; i < p.n; ++i)
+    if (glm::dot(glm::cross(p.v[(i + 1) % p.n] - p.v[i], x - p.v[i]), n) < 0.0) return false;
+  return true;
+}
+
+}  // namespace
+
+CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : patches_(&patches) {
+  // Buckets keyed by the quantised plane; neighbours in key space are not searched, so two planes
+  // that straddle a quantisation step are missed: acceptable, the step is far above the tolerance's
+  // scale only for near-identical planes, which round alike.
+  using Key = std::tuple<long long, long long, long long, long long>;
+  std::map<Key, std::vector<std::uint32_t>> buckets;
+  for (std::uint32_t i = 0; i < patches.size(); ++i) {
+    const Patch& p = patches[i];
+    // Opposite normals share a bucket: faces in contact (a lamp lying on a box's bottom) pair too.
+    Vec3 n = p.normal;
+    if (n.x < 0.0 || (n.x == 0.0 && (n.y < 0.0 || (n.y == 0.0 && n.z < 0.0)))) n = -n;
+    auto q = [](double v, double step) { return static_cast<long long>(std::llround(v / step)); };
+    buckets[{q(n.x, 1e-6), q(n.y, 1e-6), q(n.z, 1e-6), q(glm::dot(n, p.poly.v[0]), std::max(tol, 1e-300))}].push_back(i);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (covered, cover)
+  for (auto& [key, ids] : buckets) {
+    if (ids.size() < 2) continue;
+    // Sweep along one in-plane axis so that only patches whose extents overlap are paired.
+    const Vec3& n = patches[ids[0]].normal;
+    Vec3 t = std::abs(n.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+    Vec3 u = glm::normalize(glm::cross(t, n));
+    auto lo = [&](std::uint32_t i) {
+      double m = 1e300;
+      for (int k = 0; k < patches[i].poly.n; ++k) m = std::min(m, glm::dot(u, patches[i].poly.v[k]));
+      return m;
+    };
+    auto hi = [&](std::uint32_t i) {
+      double m = -1e300;
+      for (int k = 0; k < patches[i].poly.n; ++k) m = std::max(m, glm::dot(u, patches[i].poly.v[k]));
+      return m;
+    };
+    std::sort(ids.begin(), ids.end(), [&](std::uint32_t a, std::uint32_t b) { return lo(a) < lo(b) || (lo(a) == lo(b) && a < b); });
+    for (std::size_t a = 0; a < ids.size(); ++a)
+      for (std::size_t b = a + 1; b < ids.size() && lo(ids[b]) < hi(ids[a]); ++b) {
+        std::uint32_t i = ids[a], j = ids[b];
+        if (!interiorsOverlap(patches[i].poly, patches[j].poly, n, tol)) continue;
+        if (glm::dot(patches[i].normal, patches[j].normal) < 0.0) {
+          // Faces in contact hide each other: light between touching opaque faces never gets out.
+          pairs.emplace_back(i, j);
+          pairs.emplace_back(j, i);
+          continue;
+        }
+        bool iSmaller = patches[i].area < patches[j].area || (patches[i].area == patches[j].area && i > j);
+        pairs.emplace_back(iSmaller ? j : i, iSmaller ? i : j);
+      }
+  }
+  if (pairs.empty()) return;
+  std::sort(pairs.begin(), pairs.end());
+  first_.assign(patches.size() + 1, 0);
+  for (const auto& pr : pairs) ++first_[pr.first + 1];
+  for (std::size_t i = 1; i < first_.size(); ++i) first_[i] += first_[i - 1];
+  for (const auto& pr : pairs) cover_.push_back(pr.second);
+}
+
+std::uint32_t CoplanarCover::coverOf(std::uint32_t p, const Vec3& x) const {
+  if (cover_.empty()) return kNone;
+  for (std::uint32_t k = first_[p]; k < first_[p + 1]; ++k) {
+    const Patch& q = (*patches_)[cover_[k]];
+    if (inside(q.poly, q.normal, x)) return cover_[k];
+  }
+  return kNone;
+}
+
+}  // namespace hr
