@@ -24,6 +24,7 @@ struct Link {
   float at[5] = {};     // element-element links: unoccluded point form factors at the receiver's
                         // corners (pulled inward; a triangle repeats its centre) and centre
   float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
+  float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
 };
 
@@ -97,6 +98,14 @@ struct SolverState {
   Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal, std::uint32_t* patch = nullptr) const;
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
 };
+
+/// A link's visibility may move at most this fraction of the emitted power (one standard error),
+/// whatever the refinement threshold: more rays, else a split (transfer.cpp, refine.cpp).
+constexpr double kVisibilityTolerance = 2e-4;
+
+/// The power a link would carry without occlusion, W (luminance): its sender's value times its
+/// unoccluded transfer times the receiver's catching area.
+double unoccludedPower(const SolverState& s, const Link& l);
 
 /// Transfer evaluation of a new link: coefficient, bound, spread, direction, shadow rays. Returns the
 /// number of rays traced. Thread-safe (reads the state, writes only the link).
