@@ -66,8 +66,27 @@ std::uint32_t Hierarchy::build(std::uint32_t begin, std::uint32_t end, int leafS
   }
   Cluster& c = clusters_[id];
   c.bounds = box;
-  c.center = box.center();
-  c.radius = 0.5 * box.diagonal();
+  // The centre is the area centroid, not the box's centre: light leaves a cluster from its surfaces,
+  // and the far-field model of a cluster link (intensity over the squared distance between centres)
+  // is then off only to second order in the cluster's size. The radius bounds the cluster about it.
+  Vec3 centroid(0.0);
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const Patch& p = patches_[patchOrder_[i]];
+    centroid += p.area * p.poly.areaCentroid();
+  }
+  c.center = area > 0.0 ? centroid / area : box.center();
+  c.spread2 = 0.0;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    const Patch& p = patches_[patchOrder_[i]];
+    Vec3 g = p.poly.areaCentroid() - c.center;
+    c.spread2 += p.area * (p.poly.spread2() + glm::dot(g, g));
+  }
+  c.spread2 = area > 0.0 ? c.spread2 / area : 0.0;
+  c.radius = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    Vec3 corner((k & 1) ? box.hi.x : box.lo.x, (k & 2) ? box.hi.y : box.lo.y, (k & 4) ? box.hi.z : box.lo.z);
+    c.radius = std::max(c.radius, glm::length(corner - c.center));
+  }
   c.area = area;
   c.children = std::move(kids);
   c.patchBegin = begin;

@@ -20,49 +20,52 @@ bool canSplit(const SolverState& s, NodeId n) {
   return e.level < static_cast<std::uint32_t>(s.opt.maxLevel) && e.area * 0.25 >= s.minArea;
 }
 
+/// The sender's value toward the receiver, or a cluster's peak intensity if that is more (luminance).
+double senderBound(const SolverState& s, const Link& l) {
+  double S = luminance(s.senderValue(l));
+  return l.sender.isCluster() ? std::max(S, s.peak[l.sender.index()]) : S;
+}
+
 /// The oracle, part one: how much of the power the link brings may land in the wrong place on its
 /// receiver, W (luminance): the receiver's area times the sender's value times the transfer bound
 /// times its relative spread over the receiver. Compared with eps * emitted power.
 double placementError(const SolverState& s, const Link& l) {
-  double S = luminance(s.senderValue(l));
-  if (l.sender.isCluster()) S = std::max(S, s.peak[l.sender.index()]);
-  // A cluster catches light with its projected area, on average a quarter of its surface area
-  // (Cauchy's formula for convex bodies; an estimate for the rest).
-  double area = s.h.area(l.receiver) * (l.receiver.isCluster() ? 0.25 : 1.0);
   double uncertainty = std::max<double>(l.spread, l.geom);
-  return area * S * l.bound * uncertainty;
+  return catchingArea(s, l) * senderBound(s, l) * l.bound * uncertainty;
 }
 
-/// Part two: how far the power the link moves may be off, W. An inner element sends one mean value
-/// for its whole subtree while the receiver sees its parts unequally, so the power may be off by up
-/// to the bound times the range of the subtree's radiosity: a plate lit from close above by a small
-/// lamp sent the lamp back a third of what its bright centre really sends, while every form factor
-/// looked smooth. Such an error is lost or created energy, not misplaced light, so it is held to
-/// kPowerTolerance of the emitted power even when eps is coarser (refineLinks).
+/// Part two: how far the power the link moves may be off, W. Two sources:
+/// - An inner element sends one mean value for its whole subtree while the receiver sees its parts
+///   unequally, so the power may be off by up to the bound times the range of the subtree's
+///   radiosity: a plate lit from close above by a small lamp sent the lamp back a third of what its
+///   bright centre really sends, while every form factor looked smooth.
+/// - A link with a cluster end is a far-field model (intensity over squared distance, transfer.cpp);
+///   its error grows like ((r_s + r_r) / d)^2: neighbouring clusters at eps 1 created 72 % of the
+///   emitted power. Dark links cost nothing here, so dark neighbourhoods stay coarse.
+/// Such errors are lost or created energy, not misplaced light, so they are held to kPowerTolerance
+/// of the emitted power even when eps is coarser (decide).
 double powerError(const SolverState& s, const Link& l) {
-  if (l.sender.isCluster() || s.h.element(l.sender.index()).leaf()) return 0.0;
-  double area = s.h.area(l.receiver) * (l.receiver.isCluster() ? 0.25 : 1.0);
-  return area * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
+  if (l.sender.isCluster() || l.receiver.isCluster()) {
+    // With the sender's peak intensity: the model may get the direction wrong (a ceiling seen from a
+    // lamp 1 mm below it, but above the ceiling's cluster centre, got nothing from it).
+    double g = double(l.geom);
+    return catchingArea(s, l) * senderBound(s, l) * l.bound * g * g;
+  }
+  if (s.h.element(l.sender.index()).leaf()) return 0.0;
+  return s.h.area(l.receiver) * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
 }
 
 /// A coarse threshold places light coarsely but never loses or makes more than this fraction of the
 /// emitted power per link (eps 1 on the Cornell uplight lost 42 % before).
 constexpr double kPowerTolerance = 1e-3;
 
-/// Links with a cluster end move light as intensity over the squared distance between centres. That
-/// is a far-field approximation whatever the threshold: at (r_s + r_r) / d = 0.5 its error is a few
-/// per cent, at 2 (neighbouring clusters) it created 72 % of the emitted power at eps 1. Such links
-/// are split however coarse the threshold, so a coarse solution is coarse but keeps its energy.
-constexpr float kMaxClusterGeom = 0.25f;
-
 Action decide(const SolverState& s, const Link& l, double threshold) {
   const double powerThreshold = std::min(threshold, kPowerTolerance * s.emittedPower);
   if (l.sender == l.receiver) return l.sender.isCluster() ? Action::SplitSelf : Action::Drop;
   bool cs = canSplit(s, l.sender), cr = canSplit(s, l.receiver);
-  bool farField = l.geom <= kMaxClusterGeom;  // geom is 0 for element-element links
   // Visibility still uncertain after all the rays a link may take (transfer.cpp): split it too.
-  bool sureOfVisibility = l.vsigma == 0.0f || unoccludedPower(s, l) * l.vsigma <= kVisibilityTolerance * s.emittedPower;
-  if ((cs || cr) && (!farField || !sureOfVisibility || powerError(s, l) > powerThreshold ||
+  bool sureOfVisibility = l.vsigma == 0.0f || unoccludedPower(s, l) * l.vsigma <= visibilityTolerance(s);
+  if ((cs || cr) && (!sureOfVisibility || powerError(s, l) > powerThreshold ||
                      placementError(s, l) > threshold)) {
     // The larger node is split.
     bool splitSender = cs && (!cr || s.h.radius(l.sender) > s.h.radius(l.receiver));

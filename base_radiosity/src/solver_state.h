@@ -99,13 +99,19 @@ struct SolverState {
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
 };
 
-/// A link's visibility may move at most this fraction of the emitted power (one standard error),
-/// whatever the refinement threshold: more rays, else a split (transfer.cpp, refine.cpp).
+/// A link's visibility may move at most this fraction of the emitted power (one standard error; or
+/// eps if that is finer), whatever the refinement threshold: more rays, else a split (transfer.cpp,
+/// refine.cpp).
 constexpr double kVisibilityTolerance = 2e-4;
+inline double visibilityTolerance(const SolverState& s) {
+  return std::min(s.opt.eps, kVisibilityTolerance) * s.emittedPower;
+}
 
 /// The power a link would carry without occlusion, W (luminance): its sender's value times its
 /// unoccluded transfer times the receiver's catching area.
 double unoccludedPower(const SolverState& s, const Link& l);
+/// The receiver's area that catches a link's light, m^2 (a cluster: a quarter of its surface).
+double catchingArea(const SolverState& s, const Link& l);
 
 /// Transfer evaluation of a new link: coefficient, bound, spread, direction, shadow rays. Returns the
 /// number of rays traced. Thread-safe (reads the state, writes only the link).

@@ -24,7 +24,8 @@ struct Element {
 struct Cluster {
   Aabb bounds;
   Vec3 center{0.0};
-  double radius = 0.0;   // half the bounding-box diagonal
+  double radius = 0.0;   // bounding-sphere radius about center
+  double spread2 = 0.0;  // area-weighted mean squared distance of its surfaces from center, m^2
   double area = 0.0;     // total surface area inside, m^2
   std::vector<NodeId> children;  // clusters or root elements
   std::uint32_t patchBegin = 0, patchEnd = 0;  // range in Hierarchy::patchOrder
@@ -56,6 +57,10 @@ class Hierarchy {
     return n.isCluster() ? clusters_[n.index()].radius : elements_[n.index()].radius;
   }
   double area(NodeId n) const { return n.isCluster() ? clusters_[n.index()].area : elements_[n.index()].area; }
+  /// Mean squared distance of a node's surface points from its centre, m^2.
+  double spread2(NodeId n) const {
+    return n.isCluster() ? clusters_[n.index()].spread2 : elements_[n.index()].poly.spread2();
+  }
   Vec3 center(NodeId n) const {
     return n.isCluster() ? clusters_[n.index()].center : elements_[n.index()].center;
   }

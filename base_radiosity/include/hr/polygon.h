@@ -30,6 +30,26 @@ struct Polygon {
     for (int i = 0; i < n; ++i) r = glm::max(r, glm::length(v[i] - c));
     return r;
   }
+  /// Mean squared distance of the polygon's points from its area centroid, m^2 (polar moment / area):
+  /// a triangle's is (a^2 + b^2 + c^2) / 36 for sides a, b, c; a quad adds its two triangles'.
+  double spread2() const {
+    if (n == 3) return triSpread2(v[0], v[1], v[2]);
+    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0])), a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    if (a0 + a1 <= 0.0) return 0.0;
+    Vec3 g0 = (v[0] + v[1] + v[2]) / 3.0, g1 = (v[0] + v[2] + v[3]) / 3.0, g = (a0 * g0 + a1 * g1) / (a0 + a1);
+    return (a0 * (triSpread2(v[0], v[1], v[2]) + glm::dot(g0 - g, g0 - g)) +
+            a1 * (triSpread2(v[0], v[2], v[3]) + glm::dot(g1 - g, g1 - g))) / (a0 + a1);
+  }
+  static double triSpread2(const Vec3& a, const Vec3& b, const Vec3& c) {
+    return (glm::dot(b - a, b - a) + glm::dot(c - b, c - b) + glm::dot(a - c, a - c)) / 36.0;
+  }
+  /// The area centroid (the vertex mean for triangles; differs from it for non-parallelogram quads).
+  Vec3 areaCentroid() const {
+    if (n == 3) return centroid();
+    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0])), a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    if (a0 + a1 <= 0.0) return centroid();
+    return (a0 * (v[0] + v[1] + v[2]) + a1 * (v[0] + v[2] + v[3])) / (3.0 * (a0 + a1));
+  }
   /// Maps (u,v) in [0,1)^2 to a point, uniformly in area: triangles by the square-root warp, quads by
   /// splitting into two triangles chosen in proportion to their areas.
   Vec3 sample(double u, double w) const {
