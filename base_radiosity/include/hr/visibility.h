@@ -28,6 +28,9 @@ class Visibility {
   /// True when the ray from org along unit dir hits nothing (used for escaped energy).
   bool escapes(const Vec3& org, const Vec3& dir) const;
   SurfaceHit intersect(const Vec3& org, const Vec3& dir) const;
+  /// The closest hit of each ray org[i] + t dir[i], t > 0, as intersect() answers one; traced 16 at a
+  /// time (rtcIntersect16) so that a batch of rays, coherent or not, shares the call and node tests.
+  void intersect(const Vec3* org, const Vec3* dir, int count, SurfaceHit* hits) const;
   /// Absolute trimming distance: a small fraction of the scene's size, so scaled scenes behave alike.
   double epsilon() const { return eps_; }
   /// The raw Embree scene, for benchmarks that compare against plain rtcOccluded1 loops.
