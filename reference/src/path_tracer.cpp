@@ -33,28 +33,33 @@ PathTracer::PathTracer(const hr::Scene& scene, std::vector<hr::Patch> patches) :
     surfaces_.push_back(s);
   }
   std::vector<double> power;
+  frames_.resize(patches_.size());
   for (std::uint32_t i = 0; i < patches_.size(); ++i) {
-    double w = hr::luminance(surfaces_[patches_[i].material].emission) * patches_[i].area;
+    const hr::Patch& p = patches_[i];
+    glossy::orthonormalBasis(p.normal, frames_[i].t, frames_[i].b);
+    double w = hr::luminance(surfaces_[p.material].emission) * p.area;
     if (w <= 0.0) continue;
-    lightPatch_.push_back(i);
+    Emitter e;
+    e.patch = i;
+    e.v0 = p.poly.v[0];
+    e.e1 = p.poly.v[1] - e.v0;
+    e.e2 = p.poly.v[2] - e.v0;
+    if (p.poly.n == 4) {
+      e.e3 = p.poly.v[3] - e.v0;
+      double a0 = glm::length(glm::cross(e.e1, e.e2)), a1 = glm::length(glm::cross(e.e2, e.e3));
+      e.split = a0 / (a0 + a1);
+    }
+    emitters_.push_back(e);
     power.push_back(w);
   }
-  choose_.assign(patches_.size(), 0.0);
   if (!power.empty()) {
     lights_ = AliasTable(power);
-    for (std::size_t k = 0; k < lightPatch_.size(); ++k) choose_[lightPatch_[k]] = lights_.pmf(std::uint32_t(k));
+    for (std::size_t k = 0; k < emitters_.size(); ++k)
+      frames_[emitters_[k].patch].lightDensity = lights_.pmf(std::uint32_t(k)) / patches_[emitters_[k].patch].area;
   }
 }
 
 PathTracer::~PathTracer() = default;
-
-double PathTracer::lightPdf(std::uint32_t patch, const Vec3& from, const Vec3& at) const {
-  const hr::Patch& p = patches_[patch];
-  Vec3 d = at - from;
-  double d2 = glm::dot(d, d);
-  double c = -glm::dot(p.normal, d / std::sqrt(d2));
-  return c > 0.0 ? choose_[patch] * d2 / (p.area * c) : 0.0;
-}
 
 void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) const {
   p.alive = false;
@@ -65,8 +70,12 @@ void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) co
   if (glm::dot(n, p.dir) >= 0.0) return;  // the black back of a one-sided surface
   const Vec3 x = p.org + hit.t * p.dir;
   const Surface& s = surfaces_[patch.material];
+  const Frame& fr = frames_[hit.patch];
   if (s.emits) {
-    double w = p.prevPdf > 0.0 ? powerHeuristic(p.prevPdf, lightPdf(hit.patch, p.org, x)) : 1.0;
+    // The light sample's density in solid angle at the previous vertex: area density times t^2 / cos
+    // (dir is a unit vector, so the distance is t).
+    double pl = fr.lightDensity * hit.t * hit.t / -glm::dot(n, p.dir);
+    double w = p.prevPdf > 0.0 ? powerHeuristic(p.prevPdf, pl) : 1.0;
     p.radiance += p.throughput * s.emission * w;
   }
   // A path has at most maxDepth scattering vertices; the emission above is the last thing it sees,
@@ -76,16 +85,19 @@ void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) co
   const Vec3 lifted = x + n * eps_;
   // Next-event estimation: one emitter by power, one point uniformly on it.
   if (!lights_.empty()) {
-    std::uint32_t li = lightPatch_[lights_.sample(p.sampler.get1D())];
-    const hr::Patch& lp = patches_[li];
+    const Emitter& e = emitters_[lights_.sample(p.sampler.get1D())];
+    const hr::Patch& lp = patches_[e.patch];
     Uv u = p.sampler.get2D();
-    Vec3 y = lp.poly.sample(u.u, u.v);
+    // Uniform in area: the square-root warp on the triangle chosen in proportion to its area.
+    bool first = u.u < e.split;
+    double su = std::sqrt(first ? u.u / e.split : (u.u - e.split) / (1.0 - e.split));
+    Vec3 y = e.v0 + (su * (1.0 - u.v)) * (first ? e.e1 : e.e2) + (su * u.v) * (first ? e.e2 : e.e3);
     Vec3 wl = y - x;
     double dist2 = glm::dot(wl, wl);
     wl /= std::sqrt(dist2);
     double cx = glm::dot(n, wl), cy = -glm::dot(lp.normal, wl);
     if (cx > 0.0 && cy > 0.0) {
-      double pl = choose_[li] * dist2 / (lp.area * cy);
+      double pl = frames_[e.patch].lightDensity * dist2 / cy;
       double pb = s.lambert ? cx / glossy::kPi : glossy::pdf(s.brdf, wo, wl, n);
       Rgb f = s.lambert ? s.brdf.diffuse / glossy::kPi : glossy::eval(s.brdf, wl, wo, n);
       p.shadowRadiance = p.throughput * f * surfaces_[lp.material].emission * (cx * powerHeuristic(pl, pb) / pl);
@@ -98,7 +110,7 @@ void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) co
   Vec3 next;
   if (s.lambert) {
     p.sampler.get1D();  // the lobe choice's dimension, kept so that every material uses the same layout
-    next = sampleCosine(n, p.sampler.get2D());
+    next = sampleCosine(n, fr.t, fr.b, p.sampler.get2D());
     double c = glm::dot(n, next);
     if (c <= 0.0) return;
     p.throughput *= s.brdf.diffuse;

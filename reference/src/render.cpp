@@ -26,20 +26,23 @@ double processCpuSeconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-/// Per-pixel sums of the samples (and of their squares) for the mean and its variance.
+/// Per pixel and replicate: the sum of the samples (RGB and luminance) and their count, from which
+/// the mean and, through the spread of the replicates' means, its variance.
 struct Accumulator {
-  std::vector<double> sum, sum2, lsum, lsum2;
-  std::vector<std::uint32_t> bad;
+  static constexpr int kSums = 4;  // R, G, B, luminance
+  std::vector<double> sum;
+  std::vector<std::uint32_t> count, bad;
   explicit Accumulator(std::size_t pixels)
-      : sum(3 * pixels, 0.0), sum2(3 * pixels, 0.0), lsum(pixels, 0.0), lsum2(pixels, 0.0), bad(pixels, 0) {}
-  void add(std::size_t i, const Rgb& L) {
+      : sum(pixels * kReplicates * kSums, 0.0), count(pixels * kReplicates, 0), bad(pixels, 0) {}
+  void add(std::size_t i, int sample, const Rgb& L) {
     if (!hr::allFinite(L)) {
       ++bad[i];
       return;
     }
-    for (int c = 0; c < 3; ++c) sum[3 * i + c] += L[c], sum2[3 * i + c] += L[c] * L[c];
-    double l = hr::luminance(L);
-    lsum[i] += l, lsum2[i] += l * l;
+    std::size_t cell = i * kReplicates + std::size_t(sample % kReplicates);
+    double* s = &sum[cell * kSums];
+    s[0] += L.x, s[1] += L.y, s[2] += L.z, s[3] += hr::luminance(L);
+    ++count[cell];
   }
 };
 
@@ -85,6 +88,7 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
   auto traceTile = [&](const Tile& tile, int s0, int s1) {
     std::array<PathState, kLanes> lane;
     std::array<std::size_t, kLanes> pixel{};
+    std::array<int, kLanes> sample{};
     std::array<int, kLanes> idx{};
     std::array<Vec3, kLanes> org, dir, from, to;
     std::array<hr::SurfaceHit, kLanes> hits;
@@ -98,6 +102,7 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
         ++next;
         int x = tile.x0 + j % tw, y = tile.y0 + j / tw;
         pixel[k] = std::size_t(y) * cam.width + x;
+        sample[k] = s;
         SampleStream ss(o.seed, pixel[k], std::uint64_t(s));
         Uv u = ss.get2D();
         lane[k].start(rays.origin(), rays.dir(x + u.u, y + u.v), ss);
@@ -112,14 +117,14 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
         PathState& p = lane[idx[q]];
         shade(p, hits[q], o.maxDepth);
         if (p.shadow) from[m] = p.shadowFrom, to[m] = p.shadowTo, idx[m] = idx[q], ++m;
-        else if (!p.alive) acc.add(pixel[idx[q]], p.radiance);
+        else if (!p.alive) acc.add(pixel[idx[q]], sample[idx[q]], p.radiance);
       }
       std::array<bool, kLanes> bl{};
       vis_->occluded(from.data(), to.data(), m, bl.data());
       for (int q = 0; q < m; ++q) {
         PathState& p = lane[idx[q]];
         if (!bl[q]) p.radiance += p.shadowRadiance;
-        if (!p.alive) acc.add(pixel[idx[q]], p.radiance);
+        if (!p.alive) acc.add(pixel[idx[q]], sample[idx[q]], p.radiance);
       }
     }
   };
@@ -127,13 +132,16 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
   auto t0 = std::chrono::steady_clock::now();
   double c0 = processCpuSeconds();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  // Whole rounds of replicates: the variance estimate needs every replicate equally filled.
+  const int spp = (std::max(1, o.spp) + kReplicates - 1) / kReplicates * kReplicates;
+  const int passSpp = (std::max(1, o.passSpp) + kReplicates - 1) / kReplicates * kReplicates;
   int done = 0;
   while (true) {
-    int pass = o.timeS > 0.0 ? o.passSpp : std::min(o.passSpp, o.spp - done);
+    int pass = o.timeS > 0.0 ? passSpp : std::min(passSpp, spp - done);
     if (pass <= 0) break;
     tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t t) { traceTile(tiles[t], done, done + pass); });
     done += pass;
-    if (progress) progress->update(o.timeS > 0.0 ? std::min(1.0, elapsed() / o.timeS) : double(done) / o.spp);
+    if (progress) progress->update(o.timeS > 0.0 ? std::min(1.0, elapsed() / o.timeS) : double(done) / spp);
     if (o.timeS > 0.0 && elapsed() >= o.timeS) break;
   }
   r.seconds = elapsed();
@@ -144,17 +152,31 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
   r.variance.assign(3 * P, 0.0f);
   double mean = 0.0, varMean = 0.0;
   for (std::size_t i = 0; i < P; ++i) {
-    double n = double(done) - acc.bad[i];
     r.nonFinite += acc.bad[i];
-    if (n < 2.0) continue;
-    for (int c = 0; c < 3; ++c) {
-      double m = acc.sum[3 * i + c] / n;
-      r.image.rgb[3 * i + c] = static_cast<float>(m);
-      r.variance[3 * i + c] = static_cast<float>(std::max(0.0, (acc.sum2[3 * i + c] - n * m * m) / (n * (n - 1.0))));
+    double m[4] = {0, 0, 0, 0}, rep[kReplicates][4];
+    std::uint32_t n = 0;
+    bool complete = true;
+    for (int k = 0; k < kReplicates; ++k) {
+      std::size_t cell = i * kReplicates + std::size_t(k);
+      n += acc.count[cell];
+      complete = complete && acc.count[cell] > 0;
+      for (int c = 0; c < 4; ++c) {
+        m[c] += acc.sum[cell * Accumulator::kSums + c];
+        rep[k][c] = acc.count[cell] ? acc.sum[cell * Accumulator::kSums + c] / acc.count[cell] : 0.0;
+      }
     }
-    double lm = acc.lsum[i] / n;
-    mean += lm;
-    varMean += std::max(0.0, (acc.lsum2[i] - n * lm * lm) / (n * (n - 1.0)));
+    if (n == 0) continue;
+    for (double& c : m) c /= double(n);
+    // Variance of the mean of kReplicates independent replicate means.
+    double v[4] = {0, 0, 0, 0};
+    for (int k = 0; complete && k < kReplicates; ++k)
+      for (int c = 0; c < 4; ++c) v[c] += (rep[k][c] - m[c]) * (rep[k][c] - m[c]) / (kReplicates * (kReplicates - 1.0));
+    for (int c = 0; c < 3; ++c) {
+      r.image.rgb[3 * i + c] = static_cast<float>(m[c]);
+      r.variance[3 * i + c] = static_cast<float>(v[c]);
+    }
+    mean += m[3];
+    varMean += v[3];
   }
   r.meanLuminance = mean / double(P);
   r.relStdError = r.meanLuminance > 0.0 ? std::sqrt(varMean) / double(P) / r.meanLuminance : 0.0;

@@ -110,9 +110,14 @@ TEST(Reference, AgreesWithTheRadiositySolverOnADiffuseScene) {
 }
 
 TEST(Reference, NoiseEstimatePredictsTheDifferenceOfTwoSeeds) {
+  // The lower back of the Cornell box, boxes included, light out of view: the check is a sum over
+  // pixels, and when a handful of pixels (the emitter's edges) hold 90 % of the variance it is the
+  // chi-square of those few, +-40 % whatever the estimator; here the noise is spread over all.
   Traced s = load(hr::kDefaultSceneJson);
   hr::Camera cam = s.scene.cameras[0];
-  cam.width = cam.height = 32;
+  cam.width = cam.height = 48;
+  cam.lookAt = Vec3(1.0, 0.6, 0.0);
+  cam.fovYDeg = 22.0;
   ref::Options o;
   o.spp = 64;
   o.seed = 1;
@@ -120,7 +125,7 @@ TEST(Reference, NoiseEstimatePredictsTheDifferenceOfTwoSeeds) {
   o.seed = 2;
   ref::CameraResult b = s.pt->render(cam, o);
   // Summed over pixels, (a - b)^2 and var_a + var_b agree when the variance estimates are honest (a
-  // ratio of sums: the mean of per-pixel ratios is biased upward by noisy 64-sample variances).
+  // ratio of sums: the mean of per-pixel ratios is biased upward by variances from 8 replicates).
   double d2 = 0.0, v = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 1; i < a.image.rgb.size(); i += 3) {
@@ -133,7 +138,7 @@ TEST(Reference, NoiseEstimatePredictsTheDifferenceOfTwoSeeds) {
   double dz = (a.meanLuminance - b.meanLuminance) /
               std::hypot(a.relStdError * a.meanLuminance, b.relStdError * b.meanLuminance);
   std::printf("mean normalised squared difference %.3f over %zu pixels; image means differ by %.2f sigma\n", z2, n, dz);
-  EXPECT_NEAR(z2, 1.0, 0.15);
+  EXPECT_NEAR(z2, 1.0, 0.1);
   EXPECT_LT(std::abs(dz), 4.0);
 }
 

@@ -9,22 +9,20 @@
 namespace ref {
 
 /// Malley's method: a uniform point on the unit disk (concentric map, Shirley and Chiu 1997, which
-/// keeps strata compact) lifted to the hemisphere about n.
-inline hr::Vec3 sampleCosine(const hr::Vec3& n, Uv s) {
-  double a = 2.0 * s.u - 1.0, b = 2.0 * s.v - 1.0;
+/// keeps strata compact) lifted to the hemisphere about n; t and b complete n to an orthonormal frame.
+inline hr::Vec3 sampleCosine(const hr::Vec3& n, const hr::Vec3& t, const hr::Vec3& b, Uv s) {
+  double p = 2.0 * s.u - 1.0, q = 2.0 * s.v - 1.0;
   double r = 0.0, phi = 0.0;
-  if (a != 0.0 || b != 0.0) {
-    if (std::abs(a) > std::abs(b)) {
-      r = a, phi = 0.25 * glossy::kPi * (b / a);
+  if (p != 0.0 || q != 0.0) {
+    if (std::abs(p) > std::abs(q)) {
+      r = p, phi = 0.25 * glossy::kPi * (q / p);
     } else {
-      r = b, phi = 0.5 * glossy::kPi - 0.25 * glossy::kPi * (a / b);
+      r = q, phi = 0.5 * glossy::kPi - 0.25 * glossy::kPi * (p / q);
     }
   }
   double x = r * std::cos(phi), y = r * std::sin(phi);
   double z = std::sqrt(std::max(0.0, 1.0 - x * x - y * y));
-  hr::Vec3 t, bt;
-  glossy::orthonormalBasis(n, t, bt);
-  return x * t + y * bt + z * n;
+  return x * t + y * b + z * n;
 }
 
 inline double cosinePdf(const hr::Vec3& n, const hr::Vec3& w) {

@@ -23,7 +23,7 @@ using hr::Rgb;
 using hr::Vec3;
 
 struct Options {
-  int spp = 64;            // samples per pixel, unless timeS > 0
+  int spp = 64;            // samples per pixel (rounded up to whole rounds of kReplicates), unless timeS > 0
   double timeS = 0.0;      // > 0: keep adding passes of passSpp until the time is spent
   int passSpp = 8;
   int maxDepth = 64;       // bounces (scattering vertices); Russian roulette ends most paths long before
@@ -69,14 +69,26 @@ class PathTracer {
     bool reflects = false;
     bool lambert = false;  // no specular part: f = rho_d / pi, sampled by cosine exactly
   };
-  double lightPdf(std::uint32_t patch, const Vec3& from, const Vec3& at) const;
+  /// An emitting patch ready for sampling: corner v0 and edges to the other corners (a quad is the
+  /// triangles v0 v1 v2 and v0 v2 v3, the first chosen with probability `split`).
+  struct Emitter {
+    Vec3 v0, e1, e2, e3;
+    double split = 1.0;
+    std::uint32_t patch = 0;
+  };
+  /// Per patch, what a vertex needs beyond the patch itself: a tangent frame for direction
+  /// sampling and the area density of light samples (0 for patches that do not emit).
+  struct Frame {
+    Vec3 t, b;
+    double lightDensity = 0.0;  // probability of picking the patch as light / its area, 1/m^2
+  };
 
   std::vector<hr::Patch> patches_;
   std::unique_ptr<hr::Visibility> vis_;
-  std::vector<Surface> surfaces_;            // per material
-  std::vector<std::uint32_t> lightPatch_;    // emitting patches, in patch order
-  AliasTable lights_;                        // over lightPatch_, by emitted power
-  std::vector<double> choose_;               // per patch: probability of being picked as light
+  std::vector<Surface> surfaces_;   // per material
+  std::vector<Frame> frames_;       // per patch
+  std::vector<Emitter> emitters_;   // emitting patches, in patch order
+  AliasTable lights_;               // over emitters_, by emitted power
   double eps_ = 0.0;
 };
 
