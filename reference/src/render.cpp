@@ -48,7 +48,6 @@ struct Accumulator {
 
 struct Tile {
   int x0, y0, x1, y1;
-  int pixels() const { return (x1 - x0) * (y1 - y0); }
 };
 
 }  // namespace
@@ -92,20 +91,17 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
     std::array<int, kLanes> idx{};
     std::array<Vec3, kLanes> org, dir, from, to;
     std::array<hr::SurfaceHit, kLanes> hits;
-    const int tw = tile.x1 - tile.x0;
-    const std::int64_t total = std::int64_t(s1 - s0) * tile.pixels();
-    std::int64_t next = 0;  // samples run sample index by sample index, each over the tile's pixels
+    // The next sample to start: sample index by sample index, each over the tile's pixels.
+    int s = s0, x = tile.x0, y = tile.y0;
     while (true) {
       for (int k = 0; k < kLanes; ++k) {
-        if (lane[k].alive || next >= total) continue;
-        int s = s0 + int(next / tile.pixels()), j = int(next % tile.pixels());
-        ++next;
-        int x = tile.x0 + j % tw, y = tile.y0 + j / tw;
+        if (lane[k].alive || s >= s1) continue;
         pixel[k] = std::size_t(y) * cam.width + x;
         sample[k] = s;
         SampleStream ss(o.seed, pixel[k], std::uint64_t(s));
         Uv u = ss.get2D();
         lane[k].start(rays.origin(), rays.dir(x + u.u, y + u.v), ss);
+        if (++x == tile.x1 && (x = tile.x0, ++y == tile.y1)) y = tile.y0, ++s;
       }
       int n = 0;
       for (int k = 0; k < kLanes; ++k)

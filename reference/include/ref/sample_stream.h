@@ -85,15 +85,18 @@ class SampleStream {
   SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t index)
       : rng_(0, 0),
         key_(hr::mix64(hr::mix64(seed ^ hr::mix64(pixel)) ^ (index % kReplicates))),
-        point_(static_cast<std::uint32_t>(index / kReplicates)),
+        reversedPoint_(sobol::reverseBits(static_cast<std::uint32_t>(index / kReplicates))),
         qmc_(true) {}
   /// Plain independent numbers continuing a random stream (single paths traced outside an image).
   explicit SampleStream(hr::Rng rng) : rng_(rng) {}
 
+  // owen(x, s) = reverse(LK(reverse(x), s)): the Sobol values below are written with as few bit
+  // reversals as that identity allows (the first dimension is itself the reversed index).
   double get1D() {
     if (!qmc_) return rng_.uniform();
     std::uint64_t h = dimensionHash();
-    return sobol::toUnit(sobol::owen(sobol::reverseBits(shuffled(h)), std::uint32_t(h >> 32)));
+    std::uint32_t i = shuffled(h);
+    return sobol::toUnit(sobol::reverseBits(sobol::laineKarras(i, std::uint32_t(h >> 32))));
   }
   Uv get2D() {
     if (!qmc_) {
@@ -101,20 +104,24 @@ class SampleStream {
       return {u, rng_.uniform()};
     }
     std::uint64_t h = dimensionHash();
-    std::uint32_t i = shuffled(h), h2 = std::uint32_t(hr::mix64(h) >> 32);
-    return {sobol::toUnit(sobol::owen(sobol::reverseBits(i), std::uint32_t(h >> 32))),
+    std::uint32_t i = shuffled(h);
+    std::uint32_t h2 = std::uint32_t(((h ^ (h >> 29)) * 0xbf58476d1ce4e5b9ull) >> 32);
+    return {sobol::toUnit(sobol::reverseBits(sobol::laineKarras(i, std::uint32_t(h >> 32)))),
             sobol::toUnit(sobol::owen(sobol::dimension1(i), h2))};
   }
 
  private:
   std::uint64_t dimensionHash() { return hr::mix64(key_ ^ (0x9e3779b97f4a7c15ull * ++dim_)); }
-  /// The point's index, Owen-scrambled: the first 2^m indices stay a permutation of 0..2^m-1, so
-  /// every prefix of a power-of-two length is still a whole net, yet dimensions are decorrelated.
-  std::uint32_t shuffled(std::uint64_t h) const { return sobol::owen(point_, std::uint32_t(h)); }
+  /// The point's index, Owen-scrambled: the first 2^m indices map onto an aligned block of 2^m
+  /// indices, so every prefix of a power-of-two length is still a whole net, yet dimensions are
+  /// decorrelated.
+  std::uint32_t shuffled(std::uint64_t h) const {
+    return sobol::reverseBits(sobol::laineKarras(reversedPoint_, std::uint32_t(h)));
+  }
 
   hr::Rng rng_;
   std::uint64_t key_ = 0;
-  std::uint32_t point_ = 0;
+  std::uint32_t reversedPoint_ = 0;
   std::uint32_t dim_ = 0;
   bool qmc_ = false;
 };
