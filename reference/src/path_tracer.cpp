@@ -86,7 +86,10 @@ void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) co
   const Vec3 lifted = x + n * eps_;
   // Next-event estimation: one emitter by power, one point uniformly on it.
   if (!lights_.empty()) {
-    const Emitter& e = emitters_[lights_.sample(p.sampler.get1D())];
+    std::uint32_t pick = 0;
+    if (emitters_.size() > 1) pick = lights_.sample(p.sampler.get1D());
+    else p.sampler.skip();
+    const Emitter& e = emitters_[pick];
     const hr::Patch& lp = patches_[e.patch];
     Uv u = p.sampler.get2D();
     // Uniform in area: the square-root warp on the triangle chosen in proportion to its area.
@@ -110,7 +113,7 @@ void PathTracer::shade(PathState& p, const hr::SurfaceHit& hit, int maxDepth) co
   // BRDF sampling (reciprocity: sampling about wo draws incident directions with f's shape).
   Vec3 next;
   if (s.lambert) {
-    p.sampler.get1D();  // the lobe choice's dimension, kept so that every material uses the same layout
+    p.sampler.skip();  // the lobe choice's dimension: every material keeps the same layout
     next = sampleCosine(n, fr.t, fr.b, p.sampler.get2D());
     double c = glm::dot(n, next);
     if (c <= 0.0) return;
