@@ -218,15 +218,18 @@ def main():
         if have_mitsuba:
             o, m = res["ours"], res["mitsuba"]
             line = (name, o["wall"] / m["wall"], o["cpu"] / m["cpu"], o["b"] / m["b"], o["t0.10"] / m["t0.10"],
-                    o["t0.05"] / m["t0.05"])
+                    o["t0.05"] / m["t0.05"], o["b"] * o["wall"] / (m["b"] * m["wall"]))
             summary.append(line)
             print("ours / Mitsuba: per-sample time %.2f (CPU %.2f), variance per sample %.2f, time to 0.10: %.2f, "
-                  "time to 0.05: %.2f; Mitsuba JIT compile %.2f s (not counted)" % (line[1:] + (renderers[1].jit_s,)))
+                  "time to 0.05: %.2f, noise alone (b x time): %.2f; Mitsuba JIT compile %.2f s (not counted)"
+                  % (line[1:] + (renderers[1].jit_s,)))
     if summary:
-        print("\n| scene | per-sample time (wall) | (CPU) | variance per sample | time to 0.10 | time to 0.05 |")
-        print("|---|---|---|---|---|---|")
+        print("\nours / Mitsuba, ratios (below 1: ours is faster or less noisy)")
+        print("| scene | per-sample time (wall) | (CPU) | variance per sample | time to 0.10 | time to 0.05 | "
+              "noise alone (b x time) |")
+        print("|---|---|---|---|---|---|---|")
         for s in summary:
-            print("| %s | %.2f | %.2f | %.2f | %.2f | %.2f |" % s)
+            print("| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |" % s)
 
 
 if __name__ == "__main__":
