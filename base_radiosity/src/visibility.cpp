@@ -208,4 +208,13 @@ void Visibility::intersect(const Vec3* org, const Vec3* dir, int count, SurfaceH
   }
 }
 
+void Visibility::setRobust(bool robust) {
+  rtcSetSceneFlags(impl_->scene, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  // The flags pick the traversal kernels when the BVH is built; an unmodified scene is not rebuilt.
+  rtcCommitGeometry(rtcGetGeometry(impl_->scene, 0));
+  tbb::task_arena serialBuild(1);
+  serialBuild.execute([&] { rtcCommitScene(impl_->scene); });
+  impl_->check("rebuilding the Embree scene");
+}
+
 }  // namespace hr

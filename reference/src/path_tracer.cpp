@@ -23,6 +23,10 @@ double powerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 
 PathTracer::PathTracer(const hr::Scene& scene, std::vector<hr::Patch> patches) : patches_(std::move(patches)) {
   vis_ = std::make_unique<hr::Visibility>(patches_);
+  // Non-robust traversal: 14 % fewer instructions per path (callgrind, Cornell box); a ray that slips
+  // through a shared edge is a rounding-level event, far below the noise (the furnace test, a closed
+  // cube where any leak loses energy, stays within its tolerance).
+  vis_->setRobust(false);
   eps_ = vis_->epsilon();
   for (const hr::Material& m : scene.materials) {
     Surface s;
