@@ -69,6 +69,7 @@ int runReference(const ReferenceArgs& a) {
                     {"height", cam.height},
                     {"spp", r.spp},
                     {"time_s", r.seconds},
+                    {"cpu_s", r.cpuSeconds},
                     {"paths", r.paths},
                     {"paths_per_s", r.seconds > 0 ? double(r.paths) / r.seconds : 0.0},
                     {"image_mean_luminance", r.meanLuminance},

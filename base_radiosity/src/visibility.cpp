@@ -215,4 +215,51 @@ SurfaceHit Visibility::trace(const Vec3& org, const Vec3& dir, void* context) co
   return h;
 }
 
+void Visibility::intersect(const Vec3* org, const Vec3* dir, int count, SurfaceHit* hits) const {
+  RTCIntersectContext ctx;
+  for (int base = 0; base < count; base += 16) {
+    int n = glm::min(16, count - base);
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    for (int i = 0; i < 16; ++i) {
+      // Idle lanes get a harmless ray: Embree reads every lane's data whatever valid says.
+      Vec3 o = i < n ? org[base + i] : Vec3(0.0), d = i < n ? dir[base + i] : Vec3(0, 0, 1);
+      valid[i] = i < n ? -1 : 0;
+      rh.ray.org_x[i] = static_cast<float>(o.x);
+      rh.ray.org_y[i] = static_cast<float>(o.y);
+      rh.ray.org_z[i] = static_cast<float>(o.z);
+      rh.ray.dir_x[i] = static_cast<float>(d.x);
+      rh.ray.dir_y[i] = static_cast<float>(d.y);
+      rh.ray.dir_z[i] = static_cast<float>(d.z);
+      rh.ray.tnear[i] = 0.0f;
+      rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+      rh.ray.time[i] = 0.0f;
+      rh.ray.mask[i] = 0xFFFFFFFFu;
+      rh.ray.id[i] = 0;
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcInitIntersectContext(&ctx);
+    rtcIntersect16(valid, impl_->scene, &ctx, &rh);
+    for (int i = 0; i < n; ++i) {
+      SurfaceHit& h = hits[base + i];
+      h = SurfaceHit{};
+      if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+      h.hit = true;
+      h.t = rh.ray.tfar[i];
+      h.patch = impl_->triToPatch[rh.hit.primID[i]];
+    }
+  }
+}
+
+void Visibility::setRobust(bool robust) {
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | (robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE));
+  // The flags pick the traversal kernels when the BVH is built; an unmodified scene is not rebuilt.
+  rtcCommitGeometry(rtcGetGeometry(impl_->scene, 0));
+  tbb::task_arena serialBuild(1);
+  serialBuild.execute([&] { rtcCommitScene(impl_->scene); });
+  impl_->check("rebuilding the Embree scene");
+}
+
 }  // namespace hr
