@@ -62,6 +62,21 @@ class HaarDistribution {
     return {v[0], v[1], v[2]};
   }
 
+  /// The node whose cell holds direction d (the leaf eval() reads) and, if asked, that cell.
+  std::uint32_t locate(const Vec3& d, FaceTri* cell = nullptr) const;
+
+  /// A copy cut at maxLevel: a cut cell keeps its exact mean, so the power is unchanged; four equal
+  /// leaves fold into their parent (exact, and it drops the zero faces below a local horizon).
+  HaarDistribution truncated(int maxLevel) const;
+  /// A tree from nodes laid out as this class keeps them (eight roots first, children after their
+  /// parent in blocks of four, every inner value the solid-angle mean of its children).
+  static HaarDistribution fromNodes(std::vector<Node> nodes);
+  /// Power, W: the leaf cells' values times their solid angles, summed in double precision (the
+  /// integral of exactly what eval() returns; integral() reads the float root means instead).
+  Rgb leafIntegral() const;
+  /// The largest value of any cell, per channel, W/sr.
+  Rgb peak() const;
+
   void add(const HaarDistribution& other);
   void scale(double s);
   /// The power, W: integral of the intensity over the sphere (exact for the stored cells).
