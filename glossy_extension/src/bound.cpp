@@ -1,5 +1,5 @@
-// Cone bounds by hierarchical culling (Haar, tetrahedron) and by a covering grid with a Bernstein
-// slack (spherical harmonics). Margins: caps overlap with 1e-9 to spare in cosine, and the
+// Cone bounds by hierarchical culling with hull caps and an exact cone-triangle test at the leaves
+// (Haar, tetrahedron), and by a covering grid with a Bernstein slack (spherical harmonics). Margins: caps overlap with 1e-9 to spare in cosine, and the
 // tetrahedron's bound is raised by 1e-12 relative for barycentric rounding.
 #include <glossy/bound.h>
 
@@ -13,7 +13,7 @@ void haarVisit(const HaarDistribution& d, std::uint32_t i, const FaceTri& t, con
   const auto& n = d.nodes()[i];
   if (!Cap::around(t).overlaps(cone)) return;
   if (n.child == 0) {
-    best = glm::max(best, Rgb(n.rgb[0], n.rgb[1], n.rgb[2]));
+    if (meets(cone, t)) best = glm::max(best, Rgb(n.rgb[0], n.rgb[1], n.rgb[2]));
     return;
   }
   for (std::uint32_t k = 0; k < 4; ++k) haarVisit(d, n.child + k, t.child(int(k)), cone, best);
@@ -23,6 +23,7 @@ void tetraVisit(const TetraDistribution& d, std::uint32_t index, const FaceTri& 
   if (!Cap::around(t).overlaps(cone)) return;
   const TetraMesh& m = d.mesh();
   if (level == m.level()) {
+    if (!meets(cone, t)) return;
     for (std::uint32_t v : m.triangle(index)) best = glm::max(best, d.vertexValue(v));
     return;
   }

@@ -34,6 +34,30 @@ bool Cap::overlaps(const Cap& o) const {
   return glm::dot(centre, o.centre) >= cosSum - 1e-9;
 }
 
+bool meets(const Cap& cone, const FaceTri& t) {
+  if (cone.whole()) return true;
+  Vec3 v[3] = {t.dir(0), t.dir(1), t.dir(2)}, inward[3];
+  insideNormals(v[0], v[1], v[2], inward);
+  const Vec3& c = cone.centre;
+  if (glm::dot(c, inward[0]) >= 0.0 && glm::dot(c, inward[1]) >= 0.0 && glm::dot(c, inward[2]) >= 0.0) return true;
+  const double threshold = cone.cosR - 1e-9;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 &a = v[k], &b = v[(k + 1) % 3];
+    // The arc's closest direction to the axis: its foot on the great circle if that lies on the arc,
+    // otherwise the nearer end.
+    double best = std::max(glm::dot(c, a), glm::dot(c, b));
+    Vec3 m = glm::cross(a, b);
+    double len = glm::length(m);
+    if (len > 0.0) {
+      m /= len;
+      Vec3 p = c - glm::dot(c, m) * m;
+      if (glm::dot(glm::cross(a, p), m) >= 0.0 && glm::dot(glm::cross(p, b), m) >= 0.0) best = std::max(best, glm::length(p));
+    }
+    if (best >= threshold) return true;
+  }
+  return false;
+}
+
 void SphericalPolygon::clip(const Vec3& m) {
   if (n == 0) return;
   Vec3 out[8];

@@ -20,6 +20,10 @@ struct Cap {
   bool overlaps(const Cap& o) const;
 };
 
+/// Whether a cone and a spherical triangle share a direction: the axis lies in the triangle or an
+/// edge arc comes within the cone's angle of it. Exact up to about 1e-9 in cosine, erring on yes.
+bool meets(const Cap& cone, const FaceTri& t);
+
 /// A convex spherical polygon with unit-vector corners (a clipped triangle has at most 6).
 struct SphericalPolygon {
   Vec3 v[8];
