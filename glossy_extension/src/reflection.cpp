@@ -14,12 +14,41 @@ Rgb LobeSet::operator()(const Vec3& w) const {
   double c = glm::dot(normal, w);
   if (c <= 0.0) return Rgb(0.0);
   Rgb sum(0.0);
-  for (const LobeSample& s : samples) {
+  auto add = [&](const LobeSample& s) {
     double a = glm::dot(s.mirror, w);
     if (a > 0.0) sum += s.weight * std::pow(std::min(a, 1.0), exponent);
+  };
+  if (starts_.empty()) {
+    for (const LobeSample& s : samples) add(s);
+    evaluations += samples.size();
+  } else {
+    for (std::size_t k = starts_.back(); k < active_.size(); ++k) add(samples[active_[k]]);
+    evaluations += active_.size() - starts_.back();
   }
-  evaluations += samples.size();
   return c * sum;
+}
+
+void LobeSet::enter(const FaceTri& cell) const {
+  // Lobe j reaches the cell if its cap (where cos^n >= kCut) meets the cell's hull cap.
+  double cosSupport = exponent > 0.0 ? std::pow(kCut, 1.0 / exponent) : -1.0;
+  Cap support{Vec3(0, 0, 1), cosSupport, std::sqrt(std::max(0.0, 1.0 - cosSupport * cosSupport))};
+  Cap hull = Cap::around(cell);
+  std::size_t begin = active_.size();
+  auto consider = [&](std::uint32_t j) {
+    support.centre = samples[j].mirror;
+    if (support.overlaps(hull)) active_.push_back(j);
+  };
+  if (starts_.empty()) {
+    for (std::uint32_t j = 0; j < samples.size(); ++j) consider(j);
+  } else {
+    for (std::size_t k = starts_.back(), end = begin; k < end; ++k) consider(active_[k]);
+  }
+  starts_.push_back(begin);
+}
+
+void LobeSet::leave() const {
+  active_.resize(starts_.back());
+  starts_.pop_back();
 }
 
 double mergeAngle(double exponent) { return phongLobeWidth(exponent) / 16.0; }

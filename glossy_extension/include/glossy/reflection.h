@@ -14,6 +14,7 @@
 #pragma once
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
+#include <glossy/spherical_geometry.h>
 
 #include <cstdint>
 #include <span>
@@ -32,12 +33,21 @@ struct ReflectCounts {
 };
 
 /// The lobes of one leaf: I(w) = max(0, normal.w) sum_j weight_j max(0, mirror_j.w)^exponent.
+/// While a Haar projection builds a cell (enter/leave), only lobes that reach the cell are summed: a
+/// lobe is left out where it is below 1e-7 of its own peak (kCut), which no stored value can show.
 struct LobeSet {
+  static constexpr double kCut = 1e-7;
   Vec3 normal{0, 0, 1};  // in the distribution's frame
   double exponent = 1.0;
   std::vector<LobeSample> samples;
   mutable std::uint64_t evaluations = 0;  // lobe evaluations (one BRDF evaluation each)
   Rgb operator()(const Vec3& w) const;
+  void enter(const FaceTri& cell) const;
+  void leave() const;
+
+ private:
+  mutable std::vector<std::uint32_t> active_;  // stack of the lobes reaching the cells entered
+  mutable std::vector<std::size_t> starts_;    // where each entered cell's list starts
 };
 
 /// The widest angular bin (radians) in which samples are merged, for a lobe of this exponent: 1/16
