@@ -71,20 +71,26 @@ class FakeHost final : public hr::HostView {
   }
   /// The host's pull: every inner node whose subtree holds simulated leaves, children first.
   void pullAll(hr::Extension& ext) const { pullFrom(ext, top); }
+  /// The pull of one subtree (disjoint subtrees may be pulled concurrently).
+  void pullFrom(hr::Extension& ext, NodeId id) const {
+    const Node& n = node(id);
+    if (n.children.empty()) return;
+    for (NodeId c : n.children) pullFrom(ext, c);
+    ext.pull(id, n.children);
+  }
+  /// The view a saved solution gives: the same elements, no clusters.
+  FakeHost elementsOnly() const {
+    FakeHost h = *this;
+    h.clusters.clear();
+    h.top = NodeId{0};
+    return h;
+  }
   /// Every leaf element whose material the extension simulates.
   std::vector<NodeId> simulatedLeaves(const hr::Extension& ext) const {
     std::vector<NodeId> out;
     for (std::uint32_t i = 0; i < elements.size(); ++i)
       if (elements[i].info.leaf && ext.simulates(materials.at(elements[i].info.material))) out.push_back(NodeId{i});
     return out;
-  }
-
- private:
-  void pullFrom(hr::Extension& ext, NodeId id) const {
-    const Node& n = node(id);
-    if (n.children.empty()) return;
-    for (NodeId c : n.children) pullFrom(ext, c);
-    ext.pull(id, n.children);
   }
 };
 
