@@ -70,10 +70,11 @@ Rgb boundOver(const ShDistribution& d, const Cap& cone) {
   const int degree = d.order() - 1;
   if (degree == 0 || cone.whole()) return B;
   // Rings every h in polar angle up to the cone's half-angle, each with points at most h apart:
-  // every direction of the cone lies within h of a grid point. About 1024 points at most.
+  // every direction of the cone lies within h of a grid point. About 256 points at most (the
+  // oracle calls this per link: a tighter grid costs time in proportion, see docs/directional.md).
   const double alpha = std::acos(glm::clamp(cone.cosR, -1.0, 1.0));
   const double capArea = 2.0 * kPi * (1.0 - cone.cosR);
-  double h = std::max(std::sqrt(capArea / 1024.0) * 1.5, 1e-4);
+  double h = std::max(std::sqrt(capArea / 256.0) * 1.5, 1e-4);
   Vec3 u, v;
   orthonormalBasis(cone.centre, u, v);
   Rgb best(-1e300);

@@ -209,3 +209,39 @@ TEST(IsReflection, SamplesWithoutFrontLightAreDropped) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(IsConvergence, PowerChangeIsTheChangeOfTheLeavesPower) {
+  // From dark, the change is the reflected power (luminance, W); the same samples again change
+  // nothing; doubled irradiance (an exact scaling in binary) changes it by the power once more.
+  testhost::Scene scene;
+  auto ext = testhost::configured();
+  ext->attach(scene.host);
+  auto leaves = scene.host.simulatedLeaves(*ext);
+  auto lightAll = [&](double scale) {
+    for (NodeId leaf : leaves) {
+      Vec3 n = scene.host.info(leaf).normal;
+      std::vector<hr::IncidentSample> s = {testhost::sample(testhost::around(n, 0.4, leaf.value), scale * kE),
+                                           testhost::sample(testhost::around(n, 1.1, 2.0 * leaf.value), 0.5 * scale * kE)};
+      ext->reflect(leaf, s);
+    }
+    scene.host.pullAll(*ext);
+  };
+  auto total = [&] {
+    double sum = 0.0;
+    for (NodeId leaf : leaves) sum += hr::luminance(ext->reflectedPower(leaf));
+    return sum;
+  };
+  lightAll(1.0);
+  const double first = total();
+  EXPECT_GT(first, 0.0);
+  EXPECT_NEAR(ext->powerChange(), first, 1e-12 * first);
+  lightAll(1.0);
+  EXPECT_EQ(ext->powerChange(), 0.0);
+  lightAll(2.0);
+  EXPECT_NEAR(total(), 2.0 * first, 1e-12 * first);
+  EXPECT_NEAR(ext->powerChange(), first, 1e-12 * first);
+}
+
+}  // namespace
