@@ -1,6 +1,7 @@
 // Cone bounds by hierarchical culling with hull caps and an exact cone-triangle test at the leaves
-// (Haar, tetrahedron), and by a covering grid with a Bernstein slack (spherical harmonics). Margins: caps overlap with 1e-9 to spare in cosine, and the
-// tetrahedron's bound is raised by 1e-12 relative for barycentric rounding.
+// (Haar, tetrahedron), and by a covering grid with a Bernstein slack (spherical harmonics). Margins:
+// caps and cells meet with 1e-9 to spare in cosine, and the tetrahedron's bound is raised by 1e-12
+// relative for barycentric rounding.
 #include <glossy/bound.h>
 
 #include <algorithm>
@@ -70,8 +71,8 @@ Rgb boundOver(const ShDistribution& d, const Cap& cone) {
   const int degree = d.order() - 1;
   if (degree == 0 || cone.whole()) return B;
   // Rings every h in polar angle up to the cone's half-angle, each with points at most h apart:
-  // every direction of the cone lies within h of a grid point. About 256 points at most (the
-  // oracle calls this per link: a tighter grid costs time in proportion, see docs/directional.md).
+  // every direction of the cone lies within h of a grid point. About 256 points at most: the oracle
+  // calls this per link, and a tighter grid costs time in proportion (glossy_extension/README.md).
   const double alpha = std::acos(glm::clamp(cone.cosR, -1.0, 1.0));
   const double capArea = 2.0 * kPi * (1.0 - cone.cosR);
   double h = std::max(std::sqrt(capArea / 256.0) * 1.5, 1e-4);

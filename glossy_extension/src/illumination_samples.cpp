@@ -44,6 +44,10 @@ std::unique_ptr<IlluminationSamples::NodeLight>* IlluminationSamples::slot(hr::N
   return node.index() < table.size() ? &table[node.index()] : nullptr;
 }
 
+bool IlluminationSamples::isLeaf(std::size_t i) const {
+  return view_ && i < view_->elementCount() && view_->info(hr::NodeId{std::uint32_t(i)}).leaf;
+}
+
 const IlluminationSamples::NodeLight* IlluminationSamples::light(hr::NodeId node) const {
   const auto& table = node.isCluster() ? clusters_ : elements_;
   return node.index() < table.size() ? table[node.index()].get() : nullptr;
@@ -185,7 +189,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   scan(elements_);
   scan(clusters_);
   for (std::size_t i = 0; i < elements_.size(); ++i)
-    if (elements_[i] && view_ && i < view_->elementCount() && view_->info(hr::NodeId{std::uint32_t(i)}).leaf) ++leafDistributions;
+    if (elements_[i] && isLeaf(i)) ++leafDistributions;
   bytesTotal += double(change_.capacity() * sizeof(Rgb));
   const Counters& c = *counters_;
   auto v = [](const std::atomic<std::uint64_t>& a) { return double(a.load(std::memory_order_relaxed)); };

@@ -91,8 +91,7 @@ std::string IlluminationSamples::save() const {
   serial::writeU32(out, std::uint32_t(basis_.shOrder));
   std::vector<std::uint32_t> leaves;
   for (std::size_t i = 0; i < elements_.size(); ++i)
-    if (elements_[i] && view_ && i < view_->elementCount() && view_->info(hr::NodeId{std::uint32_t(i)}).leaf)
-      leaves.push_back(std::uint32_t(i));
+    if (elements_[i] && isLeaf(i)) leaves.push_back(std::uint32_t(i));
   serial::writeU64(out, leaves.size());
   for (std::uint32_t i : leaves) {
     std::ostringstream rec;

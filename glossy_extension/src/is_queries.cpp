@@ -39,7 +39,8 @@ hr::Rgb IlluminationSamples::intensityBound(hr::NodeId node, const hr::Vec3& axi
   Cap cone = Cap::cone(l->frame.toLocal(axis), cosHalfAngle);
   if (cone.whole()) return l->peak;
   // A cone wholly below a planar node's horizon sees nothing of it (angle to the normal >= 90 + half).
-  if (hasHorizon(*l) && cone.cosR >= 0.0 && glm::dot(l->normal, axis) <= -(cone.sinR + 1e-9) * glm::length(axis)) return Rgb(0.0);
+  if (hasHorizon(*l) && cone.cosR >= 0.0 && glm::dot(l->normal, axis) <= -(cone.sinR + 1e-9) * glm::length(axis))
+    return Rgb(0.0);
   return glm::max(Rgb(0.0), glm::min(l->peak, boundOver(l->dist, cone)));
 }
 

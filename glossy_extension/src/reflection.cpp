@@ -150,8 +150,8 @@ AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCo
     // The reference is a quadrature of the lobes, finer than anything stored: relative eps at most
     // 0.25, levels from 2 to one below where the hints stop (cells a quarter of the lobe's width) and
     // one below the stored maximum, never past 12 (0.02 degrees). That keeps the power within 0.3 %
-    // for exponents 1 to 10^4 (docs/directional.md). It is then re-projected, on exact cell means, with
-    // the stored options: the stored tree has the refiner's shape and the reference's power.
+    // for exponents 1 to 10^4 (glossy_extension/README.md). It is then re-projected on exact cell
+    // means with the stored options: the stored tree has the refiner's shape, the reference's power.
     HaarOptions ref = b.haar;
     ref.eps = std::min(b.haar.eps, 0.25);
     ref.minLevel = std::max(b.haar.minLevel, 2);

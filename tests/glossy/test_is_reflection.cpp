@@ -54,7 +54,7 @@ double worstRel(const Rgb& got, const Rgb& want) {
 TEST(IsReflection, NormalIncidencePowerIsRhoSAE) {
   // At normal incidence the lobe's albedo is exactly 1: reflected power = rho_s A E per channel.
   // Haar keeps the fine projection's power at any stored level: 1 %. The fixed bases are held to what
-  // the bases themselves do (measured, docs/directional.md), as a regression bound: the tetrahedron
+  // the bases themselves do (measured, glossy_extension/README.md), as a regression bound: the tetrahedron
   // interpolates point samples linearly, which overestimates a peaked lobe (+3.3 % at level 3,
   // n = 10); spherical harmonics integrate exactly but ring below zero, and intensity() sends none of
   // the negative part (+5.3 % at order 8).

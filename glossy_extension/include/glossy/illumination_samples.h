@@ -67,6 +67,8 @@ class IlluminationSamples final : public hr::Extension {
 
  private:
   std::unique_ptr<NodeLight>* slot(hr::NodeId node);
+  /// Whether element i is a leaf of the attached view (display and the file need leaves only).
+  bool isLeaf(std::size_t i) const;
   void finish(NodeLight& l) const;
   void resize(std::size_t elements, std::size_t clusters);
 

@@ -3,7 +3,7 @@
 //   I(w_o) = A cos(theta_o) sum_i f_s(w_i, w_o) E_i,  f_s = rho_s (N + 2) / (2 pi) cos^N(alpha_i),
 // (W/sr; the host keeps rho_d), projected into the leaf's directional basis. Samples whose mirror
 // directions nearly coincide are merged first (irradiance-weighted mean direction, summed irradiance;
-// see docs/directional.md for what it costs). Projection never misses a highlight:
+// see glossy_extension/README.md for what it costs). Projection never misses a highlight:
 // - Haar: a fine reference projection with a peak hint at every sample's mirror direction, refined
 //   down to the lobe's width, is re-projected with the stored options (dir-eps, levels) on exact cell
 //   means: every stored cell holds the reference's mean over it, so the power is the fine projection's
