@@ -14,7 +14,7 @@ struct Frame {
   /// The frame of a planar node with unit normal n; the same normal always gives the same frame.
   static Frame around(const Vec3& normal) {
     Frame f;
-    f.n = normal;
+    f.n = glm::normalize(normal);
     orthonormalBasis(normal, f.u, f.v);
     return f;
   }
