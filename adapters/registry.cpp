@@ -1,11 +1,15 @@
 // Extension table. "diffuse" is the core alone (no extension object, no hook is ever called).
 #include "registry.h"
 
+#include "bright/illumination_samples.h"
+
 namespace adapters {
 
 const std::vector<ExtensionEntry>& extensionTable() {
   static const std::vector<ExtensionEntry> table = {
       {"diffuse", "plain diffuse hierarchical radiosity (no extension)", nullptr},
+      {"is", "glossy global illumination with Illumination Samples (Stamminger et al., sections 3-4)",
+       bright::makeIlluminationSamples},
   };
   return table;
 }

@@ -4,6 +4,7 @@
 #include <glossy/serial.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <istream>
 #include <ostream>
@@ -41,6 +42,76 @@ void HaarDistribution::merge(std::uint32_t i, const HaarDistribution& o, std::ui
   for (int c = 0; c < 3; ++c) nodes_[i].rgb[c] += b.rgb[c];
   std::uint32_t ci = nodes_[i].child;
   for (std::uint32_t k = 0; k < 4; ++k) merge(ci + k, o, b.child + k);
+}
+
+std::uint32_t HaarDistribution::locate(const Vec3& d, FaceTri* cell) const {
+  Bary b = octaBary(d);
+  int face = octaFace(d);
+  auto i = static_cast<std::uint32_t>(face);
+  FaceTri t = octaRoot(face);
+  while (nodes_[i].child != 0) {
+    int k = descend(b);
+    i = nodes_[i].child + static_cast<std::uint32_t>(k);
+    if (cell) t = t.child(k);
+  }
+  if (cell) *cell = t;
+  return i;
+}
+
+namespace {
+
+void copyCut(const std::vector<HaarDistribution::Node>& src, std::uint32_t i, std::vector<HaarDistribution::Node>& dst,
+             std::uint32_t j, int level, int maxLevel) {
+  dst[j] = {{src[i].rgb[0], src[i].rgb[1], src[i].rgb[2]}, 0};
+  if (src[i].child == 0 || level >= maxLevel) return;
+  auto first = static_cast<std::uint32_t>(dst.size());
+  dst.resize(dst.size() + 4);
+  dst[j].child = first;
+  for (std::uint32_t k = 0; k < 4; ++k) copyCut(src, src[i].child + k, dst, first + k, level + 1, maxLevel);
+  // Four equal leaves say no more than one: fold them (they are the last four nodes written).
+  const auto& c = dst[first];
+  bool equal = true;
+  for (std::uint32_t k = 0; k < 4 && equal; ++k) {
+    const auto& x = dst[first + k];
+    equal = x.child == 0 && x.rgb[0] == c.rgb[0] && x.rgb[1] == c.rgb[1] && x.rgb[2] == c.rgb[2];
+  }
+  if (equal && dst.size() == first + 4) {
+    float v[3] = {c.rgb[0], c.rgb[1], c.rgb[2]};
+    dst.resize(first);
+    dst[j] = {{v[0], v[1], v[2]}, 0};
+  }
+}
+
+}  // namespace
+
+HaarDistribution HaarDistribution::truncated(int maxLevel) const {
+  HaarDistribution out;
+  out.nodes_.reserve(nodes_.size());
+  for (std::uint32_t f = 0; f < 8; ++f) copyCut(nodes_, f, out.nodes_, f, 0, maxLevel);
+  out.nodes_.shrink_to_fit();
+  return out;
+}
+
+HaarDistribution HaarDistribution::fromNodes(std::vector<Node> nodes) {
+  assert(nodes.size() >= 8 && (nodes.size() - 8) % 4 == 0);
+  HaarDistribution d;
+  d.nodes_ = std::move(nodes);
+  d.nodes_.shrink_to_fit();
+  return d;
+}
+
+Rgb HaarDistribution::leafIntegral() const {
+  Rgb sum(0.0);
+  visitLeaves([&](const FaceTri& t, int, const Rgb& v, std::uint64_t) {
+    if (v != Rgb(0.0)) sum += v * t.solidAngle();
+  });
+  return sum;
+}
+
+Rgb HaarDistribution::peak() const {
+  Rgb m(0.0);
+  for (const Node& n : nodes_) m = glm::max(m, Rgb(n.rgb[0], n.rgb[1], n.rgb[2]));
+  return m;
 }
 
 void HaarDistribution::add(const HaarDistribution& other) {

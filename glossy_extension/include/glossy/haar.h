@@ -4,8 +4,10 @@
 // and centre and subdivide while the spread is too large, always down to min_level, never past
 // max_level. Peak hints (the mirror directions of the light that made a glossy lobe) refine the cells
 // that hold them down to the lobe's width, so that a lobe narrower than the sampling is not missed.
+// A projected function may offer enter(cell)/leave() to be told the cell being built (so that it can
+// skip terms that cannot reach it); hints are narrowed per cell the same way.
 #pragma once
-#include <glossy/sphere.h>
+#include <glossy/spherical_geometry.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -61,6 +63,21 @@ class HaarDistribution {
     const float* v = nodes_[i].rgb;
     return {v[0], v[1], v[2]};
   }
+
+  /// The node whose cell holds direction d (the leaf eval() reads) and, if asked, that cell.
+  std::uint32_t locate(const Vec3& d, FaceTri* cell = nullptr) const;
+
+  /// A copy cut at maxLevel: a cut cell keeps its exact mean, so the power is unchanged; four equal
+  /// leaves fold into their parent (exact, and it drops the zero faces below a local horizon).
+  HaarDistribution truncated(int maxLevel) const;
+  /// A tree from nodes laid out as this class keeps them (eight roots first, children after their
+  /// parent in blocks of four, every inner value the solid-angle mean of its children).
+  static HaarDistribution fromNodes(std::vector<Node> nodes);
+  /// Power, W: the leaf cells' values times their solid angles, summed in double precision (the
+  /// integral of exactly what eval() returns; integral() reads the float root means instead).
+  Rgb leafIntegral() const;
+  /// The largest value of any cell, per channel, W/sr.
+  Rgb peak() const;
 
   void add(const HaarDistribution& other);
   void scale(double s);
@@ -118,24 +135,33 @@ struct HaarBuilder {
   std::span<const PeakHint> hints;
   std::vector<HaarDistribution::Node>& nodes;
   double peak = 0.0;  // largest sample so far (channel maximum), for the relative refiner's floor
+  std::vector<Cap> hintCaps;           // the cap of each hint's width around its direction
+  std::vector<int> hintLevels;         // the level each hint refines to
+  std::vector<std::uint32_t> active;   // stack of the hints that may reach the cell being built
+
+  /// A function may be told which cell is being built, to skip terms that cannot reach it.
+  static constexpr bool kScoped = requires(F& g, const FaceTri& c) {
+    g.enter(c);
+    g.leave();
+  };
 
   Rgb sample(const Vec3& d) {
     Rgb v = f(d);
     peak = std::max(peak, hr::maxComponent(glm::abs(v)));
     return v;
   }
-  /// True when the cell may overlap a hinted peak (the cap of the hint's width around its direction)
-  /// and is still coarser than the peak: conservative, by the cell's circumradius about its centre.
-  bool hinted(const FaceTri& t, int level) const {
-    if (hints.empty()) return false;
-    Vec3 c = t.centreDir();
-    double radius = 0.0;
-    for (int k = 0; k < 3; ++k) radius = std::max(radius, std::acos(glm::clamp(glm::dot(c, t.dir(k)), -1.0, 1.0)));
-    for (const PeakHint& h : hints) {
-      if (level >= std::min(o.maxLevel, hintLevel(h.width))) continue;
-      double dist = std::acos(glm::clamp(glm::dot(c, glm::normalize(h.dir)), -1.0, 1.0));
-      if (dist <= radius + h.width) return true;
-    }
+  /// Narrows the active hints [begin, end) to those whose cap meets cell t (conservative, by the
+  /// cell's hull cap); returns where the cell's own list starts (it ends at active.size()).
+  std::size_t narrowHints(const Cap& cell, std::size_t begin, std::size_t end) {
+    std::size_t mine = active.size();
+    for (std::size_t k = begin; k < end; ++k)
+      if (hintCaps[active[k]].overlaps(cell)) active.push_back(active[k]);
+    return mine;
+  }
+  /// True when the cell may overlap a hinted peak and is still coarser than the peak.
+  bool hinted(std::size_t begin, int level) const {
+    for (std::size_t k = begin; k < active.size(); ++k)
+      if (level < std::min(o.maxLevel, hintLevels[active[k]])) return true;
     return false;
   }
   bool wide(const Rgb* s) const {
@@ -148,13 +174,22 @@ struct HaarBuilder {
     if (o.refiner == Refiner::Absolute) return spread > o.eps;
     return spread > o.eps * std::max(centre, o.floor * peak);
   }
-  /// Builds node i for cell t whose corner samples are given.
-  void build(std::uint32_t i, const FaceTri& t, int level, const Rgb corner[3]) {
+  /// Builds node i for cell t whose corner samples are given; the parent's hints are [hb, he).
+  void build(std::uint32_t i, const FaceTri& t, int level, const Rgb corner[3], std::size_t hb, std::size_t he) {
+    struct Scope {
+      F& g;
+      ~Scope() {
+        if constexpr (kScoped) g.leave();
+      }
+    } scope{f};
+    if constexpr (kScoped) f.enter(t);
+    std::size_t mine = narrowHints(Cap::around(t), hb, he), mineEnd = active.size();
     Rgb s[4] = {corner[0], corner[1], corner[2], sample(t.centreDir())};
-    bool split = level < o.maxLevel && (level < o.minLevel || hinted(t, level) || wide(s));
+    bool split = level < o.maxLevel && (level < o.minLevel || hinted(mine, level) || wide(s));
     if (!split) {
       // Cell mean: the degree-2 triangle rule (centre 3/4, corners 1/12 each).
       HaarDistribution::setValue(nodes[i], 0.75 * s[3] + (s[0] + s[1] + s[2]) / 12.0);
+      active.resize(mine);
       return;
     }
     Rgb m01 = sample(glm::normalize(t.p[0] + t.p[1])), m12 = sample(glm::normalize(t.p[1] + t.p[2])),
@@ -167,27 +202,35 @@ struct HaarBuilder {
     double total = 0.0;
     for (int k = 0; k < 4; ++k) {
       FaceTri ct = t.child(k);
-      build(first + std::uint32_t(k), ct, level + 1, kc[k]);
+      build(first + std::uint32_t(k), ct, level + 1, kc[k], mine, mineEnd);
       double w = ct.solidAngle();
       const float* v = nodes[first + std::uint32_t(k)].rgb;
       sum += w * Rgb(v[0], v[1], v[2]);
       total += w;
     }
     HaarDistribution::setValue(nodes[i], sum / total);
+    active.resize(mine);
   }
 };
 
 template <class F>
 HaarDistribution HaarDistribution::project(F&& f, const HaarOptions& o, std::span<const PeakHint> hints) {
   HaarDistribution d;
-  HaarBuilder<F> b{f, o, hints, d.nodes_};
+  HaarBuilder<F> b{f, o, hints, d.nodes_, 0.0, {}, {}, {}};
   // The floor's scale starts from the hinted peaks, so that it does not depend on which octant
   // happens to be built first when a hint is given.
-  for (const PeakHint& h : hints) b.sample(glm::normalize(h.dir));
+  for (std::uint32_t k = 0; k < hints.size(); ++k) {
+    const PeakHint& h = hints[k];
+    b.sample(glm::normalize(h.dir));
+    b.hintCaps.push_back(Cap::cone(h.dir, std::cos(std::min(h.width, kPi))));
+    b.hintLevels.push_back(hintLevel(h.width));
+    b.active.push_back(k);
+  }
+  const std::size_t all = b.active.size();
   for (int face = 0; face < 8; ++face) {
     FaceTri t = octaRoot(face);
     Rgb c[3] = {b.sample(t.dir(0)), b.sample(t.dir(1)), b.sample(t.dir(2))};
-    b.build(static_cast<std::uint32_t>(face), t, 0, c);
+    b.build(static_cast<std::uint32_t>(face), t, 0, c, 0, all);
   }
   d.nodes_.shrink_to_fit();  // a projected distribution is kept for the whole solve: hold no slack
   return d;

@@ -43,6 +43,9 @@ class ShDistribution {
   std::size_t bytes() const { return sizeof(*this) + c_.capacity() * sizeof(float); }
   int order() const { return order_; }
 
+  /// Coefficient i (basis function i in (l, m) order), RGB.
+  Rgb coefficient(std::size_t i) const { return {c_[3 * i], c_[3 * i + 1], c_[3 * i + 2]}; }
+
   /// The L^2 basis values at unit direction d, in (l, m) order, m = -l..l.
   void basis(const Vec3& d, double* out) const;
 

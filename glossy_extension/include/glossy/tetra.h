@@ -28,6 +28,10 @@ class TetraMesh {
   /// Integral over the sphere of vertex i's hat function, sr; the weights sum to 4 pi.
   double weight(std::size_t i) const { return weights_[i]; }
 
+  /// Root face f (0-3) as planar corners; its 1->4 descendants at this mesh's level are triangles
+  /// f * 4^level + (base-4 path), the order locate() returns.
+  FaceTri rootFace(int f) const { return root(f); }
+
   /// The triangle holding direction d and d's barycentric coordinates in it.
   std::uint32_t locate(const Vec3& d, Bary& b) const {
     int f = 0;
@@ -75,6 +79,8 @@ class TetraDistribution {
     return {b.b0 * v0[0] + b.b1 * v1[0] + b.b2 * v2[0], b.b0 * v0[1] + b.b1 * v1[1] + b.b2 * v2[1],
             b.b0 * v0[2] + b.b1 * v1[2] + b.b2 * v2[2]};
   }
+
+  Rgb vertexValue(std::size_t i) const { return {rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]}; }
 
   /// Both must have the same level (throws std::invalid_argument otherwise).
   void add(const TetraDistribution& other);

@@ -1,0 +1,74 @@
+// Reflection of Illumination Samples at a glossy leaf (paper §3.3): each sample is a Dirac impulse of
+// irradiance E_i from w_i, so the leaf's exitant intensity is the sum of impulse responses
+//   I(w_o) = A cos(theta_o) sum_i f_s(w_i, w_o) E_i,  f_s = rho_s (N + 2) / (2 pi) cos^N(alpha_i),
+// (W/sr; the host keeps rho_d), projected into the leaf's directional basis. Samples whose mirror
+// directions nearly coincide are merged first (irradiance-weighted mean direction, summed irradiance;
+// see glossy_extension/README.md for what it costs). Projection never misses a highlight:
+// - Haar: a fine reference projection with a peak hint at every sample's mirror direction, refined
+//   down to the lobe's width, is re-projected with the stored options (dir-eps, levels) on exact cell
+//   means: every stored cell holds the reference's mean over it, so the power is the fine projection's
+//   even when the lobe is far narrower than a cell of dir-max-level.
+// - Tetrahedron and spherical harmonics sample the lobe at fixed points, so a lobe narrower than their
+//   resolution would fall between the points: the exponent is first limited to what the basis can
+//   hold (representableExponent), which widens the lobe and keeps its normalisation.
+#pragma once
+#include <glossy/distribution.h>
+#include <glossy/frame.h>
+#include <glossy/spherical_geometry.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace glossy {
+
+/// One (possibly merged) sample ready for reflection, in the distribution's frame.
+struct LobeSample {
+  Vec3 mirror{0, 0, 1};  // unit mirror direction of the light's direction
+  Rgb weight{0.0};       // W/sr: A rho_s (N + 2) / (2 pi) E, the lobe's peak per unit cos(theta_o)
+};
+
+struct ReflectCounts {
+  std::uint64_t received = 0, kept = 0, dropped = 0, brdfEvaluations = 0;
+};
+
+/// The lobes of one leaf: I(w) = max(0, normal.w) sum_j weight_j max(0, mirror_j.w)^exponent.
+/// While a Haar projection builds a cell (enter/leave), only lobes that reach the cell are summed: a
+/// lobe is left out where it is below 1e-7 of its own peak (kCut), which no stored value can show.
+struct LobeSet {
+  static constexpr double kCut = 1e-7;
+  Vec3 normal{0, 0, 1};  // in the distribution's frame
+  double exponent = 1.0;
+  std::vector<LobeSample> samples;
+  mutable std::uint64_t evaluations = 0;  // lobe evaluations (one BRDF evaluation each)
+  Rgb operator()(const Vec3& w) const;
+  void enter(const FaceTri& cell) const;
+  void leave() const;
+
+ private:
+  mutable std::vector<std::uint32_t> active_;  // stack of the lobes reaching the cells entered
+  mutable std::vector<std::size_t> starts_;    // where each entered cell's list starts
+};
+
+/// The widest angular bin (radians) in which samples are merged, for a lobe of this exponent: 1/16
+/// of its 1 % half-width.
+double mergeAngle(double exponent);
+
+/// The largest exponent a basis holds without its lobe falling between its sample points: Haar any;
+/// tetrahedron level t a lobe at least two vertex spacings wide (1 % half-width); spherical harmonics
+/// of order L a lobe at least 2 pi / L wide.
+double representableExponent(const BasisSpec& b, double exponent);
+
+/// The host's samples (world frame) as lobes in `frame`: samples with no light on the front of the
+/// surface (non-finite, non-positive, or from behind) are dropped; samples within `merge` radians of a
+/// brighter one are merged into it (0: no merging). E is planar irradiance, W/m^2; area in m^2.
+LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& frame, const Vec3& worldNormal,
+                  double area, const Rgb& specular, double exponent, double merge, ReflectCounts& counts);
+
+/// Projects the lobes into the basis (see the file comment); counts lobe evaluations.
+AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCounts& counts);
+
+/// The zero distribution of a basis.
+AnyDistribution zeroDistribution(const BasisSpec& b);
+
+}  // namespace glossy

@@ -1,0 +1,197 @@
+// The extension's section of the solution file: the distributions of the glossy leaves (display
+// needs nothing else), under a checksum. Loading trusts nothing: a damaged, truncated or foreign
+// section, or one that does not fit the loaded solution's elements, is refused with hr::InputError
+// before any state changes, and nothing non-finite can come out of it.
+#include <glossy/illumination_samples.h>
+#include <glossy/is_options.h>
+#include <glossy/serial.h>
+
+#include <bit>
+#include <map>
+#include <sstream>
+
+namespace glossy {
+
+namespace {
+
+constexpr std::uint32_t kMagic = 0x53494C47u;  // "GLIS"
+constexpr const char* kWhat = "solution file, section of extension 'is'";
+
+[[noreturn]] void refuse(const std::string& why) { throw hr::InputError(std::string(kWhat) + ": " + why); }
+
+/// FNV-1a, 64 bits: any change of one byte changes it, and random damage passes with odds 2^-64.
+std::uint64_t fnv1a(std::string_view bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+std::uint64_t u64At(std::string_view b, std::size_t at) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < 8; ++i) v |= std::uint64_t(static_cast<unsigned char>(b[at + i])) << (8 * i);
+  return v;
+}
+std::uint32_t u32At(std::string_view b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (std::size_t i = 0; i < 4; ++i) v |= std::uint32_t(static_cast<unsigned char>(b[at + i])) << (8 * i);
+  return v;
+}
+
+/// The byte size a record must have, from its own header: refuses before anything is allocated.
+std::uint64_t expectedRecordBytes(std::string_view r, const BasisSpec& b) {
+  if (r.size() < 12) refuse("distribution record too short");
+  switch (b.basis) {
+    case Basis::Haar: {
+      if (r.size() < 16) refuse("distribution record too short");
+      std::uint64_t count = u64At(r, 8);
+      if (count > (std::uint64_t(1) << 32)) refuse("Haar node count out of range");
+      return 16 + 16 * count;
+    }
+    case Basis::Tetra: {
+      std::uint32_t level = u32At(r, 8);
+      if (level > std::uint32_t(TetraMesh::kMaxLevel)) refuse("tetrahedron level out of range");
+      return 12 + 12 * (2 * (std::uint64_t(1) << (2 * level)) + 2);
+    }
+    default: {
+      std::uint32_t order = u32At(r, 8);
+      if (order > std::uint32_t(ShDistribution::kMaxOrder)) refuse("spherical harmonics order out of range");
+      return 12 + 12 * std::uint64_t(order) * order;
+    }
+  }
+}
+
+/// Checks a Haar tree beyond its structure: depth within the stated level, no negative values, and
+/// nothing below the local horizon (faces 4-7 are folded zero leaves in a leaf's own frame).
+void checkHaar(const HaarDistribution& h, int maxLevel) {
+  auto nodes = h.nodes();
+  std::vector<std::uint8_t> level(nodes.size(), 0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (float v : nodes[i].rgb)
+      if (!(v >= 0.0f)) refuse("negative intensity in a Haar distribution");
+    if (nodes[i].child == 0) continue;
+    if (level[i] >= maxLevel) refuse("Haar distribution deeper than its stated maximum level");
+    for (std::uint32_t k = 0; k < 4; ++k) level[nodes[i].child + k] = std::uint8_t(level[i] + 1);
+  }
+  for (std::size_t f = 4; f < 8; ++f)
+    if (nodes[f].child != 0 || nodes[f].rgb[0] != 0.0f || nodes[f].rgb[1] != 0.0f || nodes[f].rgb[2] != 0.0f)
+      refuse("light below a leaf's horizon");
+}
+
+}  // namespace
+
+std::string IlluminationSamples::save() const {
+  std::ostringstream out;
+  serial::writeU32(out, kMagic);
+  serial::writeU32(out, formatVersion());
+  serial::writeU32(out, std::uint32_t(basis_.basis));
+  serial::writeU64(out, std::bit_cast<std::uint64_t>(basis_.haar.eps));
+  serial::writeU32(out, std::uint32_t(basis_.haar.minLevel));
+  serial::writeU32(out, std::uint32_t(basis_.haar.maxLevel));
+  serial::writeU32(out, std::uint32_t(basis_.tetraLevel));
+  serial::writeU32(out, std::uint32_t(basis_.shOrder));
+  std::vector<std::uint32_t> leaves;
+  for (std::size_t i = 0; i < elements_.size(); ++i)
+    if (elements_[i] && isLeaf(i)) leaves.push_back(std::uint32_t(i));
+  serial::writeU64(out, leaves.size());
+  for (std::uint32_t i : leaves) {
+    std::ostringstream rec;
+    std::visit([&](const auto& d) { d.serialize(rec); }, elements_[i]->dist);
+    std::string r = rec.str();
+    serial::writeU32(out, i);
+    serial::writeU64(out, r.size());
+    out.write(r.data(), std::streamsize(r.size()));
+  }
+  std::string body = out.str();
+  std::ostringstream tail;
+  serial::writeU64(tail, fnv1a(body));
+  return body + tail.str();
+}
+
+void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view) {
+  if (bytes.size() < 8 + 40) refuse("truncated (" + std::to_string(bytes.size()) + " bytes)");
+  std::string_view body = bytes.substr(0, bytes.size() - 8);
+  if (fnv1a(body) != u64At(bytes, bytes.size() - 8)) refuse("checksum mismatch: the section is damaged or truncated");
+  std::istringstream in{std::string(body)};
+  BasisSpec b = defaultIsBasis();
+  std::vector<std::unique_ptr<NodeLight>> table(view.elementCount());
+  try {
+    if (serial::readU32(in) != kMagic) refuse("not an Illumination Samples section");
+    std::uint32_t version = serial::readU32(in);
+    if (version != formatVersion())
+      refuse("format version " + std::to_string(version) + ", this build reads version " + std::to_string(formatVersion()));
+    std::uint32_t basis = serial::readU32(in);
+    if (basis > 2) refuse("unknown basis " + std::to_string(basis));
+    b.basis = Basis(basis);
+    b.haar.eps = std::bit_cast<double>(serial::readU64(in));
+    b.haar.minLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
+    b.haar.maxLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
+    b.tetraLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
+    b.shOrder = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
+    validateIsBasis(b, kWhat);
+    std::uint64_t count = serial::readU64(in);
+    if (count > view.elementCount()) refuse("more distributions than the solution has elements");
+    std::int64_t previous = -1;
+    for (std::uint64_t e = 0; e < count; ++e) {
+      std::uint32_t index = serial::readU32(in);
+      std::uint64_t size = serial::readU64(in);
+      std::string where = "element " + std::to_string(index);
+      if (std::int64_t(index) <= previous) refuse(where + ": elements out of order or repeated");
+      previous = index;
+      if (index >= view.elementCount()) refuse(where + ": no such element in the solution");
+      hr::NodeInfo info = view.info(hr::NodeId{index});
+      if (!info.leaf || !info.planar || info.material >= view.materialCount() || !(info.area > 0.0) ||
+          !std::isfinite(info.area) || !hr::allFinite(info.normal) || std::abs(glm::length(info.normal) - 1.0) > 1e-6)
+        refuse(where + ": not a planar leaf of the solution");
+      if (!simulates(view.material(info.material))) refuse(where + ": its material is not glossy");
+      std::size_t at = std::size_t(in.tellg());
+      if (size > body.size() - at) refuse(where + ": record runs past the end of the section");
+      std::string_view rec = body.substr(at, size);
+      if (expectedRecordBytes(rec, b) != size) refuse(where + ": record size does not match its contents");
+      std::istringstream rin{std::string(rec)};
+      auto l = std::make_unique<NodeLight>();
+      switch (b.basis) {
+        case Basis::Haar: {
+          HaarDistribution h = HaarDistribution::deserialize(rin);
+          checkHaar(h, b.haar.maxLevel);
+          l->dist = std::move(h);
+          break;
+        }
+        case Basis::Tetra: {
+          TetraDistribution t = TetraDistribution::deserialize(rin);
+          if (t.level() != b.tetraLevel) refuse(where + ": tetrahedron level differs from the section's");
+          for (std::size_t i = 0; i < t.mesh().vertexCount(); ++i)
+            if (!glm::all(glm::greaterThanEqual(t.vertexValue(i), Rgb(0.0)))) refuse(where + ": negative intensity");
+          l->dist = std::move(t);
+          break;
+        }
+        default: {
+          ShDistribution s = ShDistribution::deserialize(rin);
+          if (s.order() != b.shOrder) refuse(where + ": spherical harmonics order differs from the section's");
+          l->dist = std::move(s);
+          break;
+        }
+      }
+      in.seekg(std::streamoff(at + size));
+      l->normal = info.normal;
+      l->area = info.area;
+      l->frame = b.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
+      finish(*l);
+      if (!hr::allFinite(l->power) || !hr::allFinite(l->peak)) refuse(where + ": values out of range");
+      table[index] = std::move(l);
+    }
+    if (std::size_t(in.tellg()) != body.size()) refuse("bytes after the last distribution");
+  } catch (const hr::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    refuse(e.what());
+  }
+  // Everything read: only now replace the state. The section states the basis its data are in.
+  basis_ = b;
+  view_ = &view;
+  elements_ = std::move(table);
+  clusters_.clear();
+  clusters_.resize(view.clusterCount());
+  change_.assign(view.elementCount(), Rgb(0.0));
+}
+
+}  // namespace glossy

@@ -1,0 +1,113 @@
+// Option parsing for the Illumination Samples extension: whole-string numbers only ("3x", "", "nan"
+// are refused), ranges checked, options of another basis refused, each option at most once.
+#include <glossy/is_options.h>
+
+#include <charconv>
+#include <cmath>
+#include <map>
+
+namespace glossy {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& option, const std::string& why) { throw hr::InputError("--" + option + ": " + why); }
+
+double parseDouble(const hr::OptionValue& v) {
+  double x = 0.0;
+  const char *b = v.value.data(), *e = b + v.value.size();
+  auto [end, ec] = std::from_chars(b, e, x);
+  if (ec != std::errc() || end != e || !std::isfinite(x)) fail(v.name, "not a finite number: '" + v.value + "'");
+  return x;
+}
+
+int parseInt(const hr::OptionValue& v, int lo, int hi) {
+  long long x = 0;
+  const char *b = v.value.data(), *e = b + v.value.size();
+  auto [end, ec] = std::from_chars(b, e, x);
+  if (ec != std::errc() || end != e || x < lo || x > hi)
+    fail(v.name, "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got '" + v.value + "'");
+  return static_cast<int>(x);
+}
+
+const char* owner(const std::string& name) {
+  if (name == "dir-eps" || name == "dir-min-level" || name == "dir-max-level") return "haar";
+  if (name == "tetra-level") return "tetra";
+  if (name == "sh-order") return "sh";
+  return nullptr;
+}
+
+}  // namespace
+
+BasisSpec defaultIsBasis() {
+  BasisSpec b;
+  b.basis = Basis::Haar;
+  b.haar.eps = 0.5;
+  b.haar.minLevel = 1;
+  b.haar.maxLevel = 3;
+  b.haar.refiner = Refiner::Relative;
+  b.tetraLevel = 3;
+  b.shOrder = 8;
+  return b;
+}
+
+std::vector<hr::OptionSpec> isOptionSpecs() {
+  return {
+      {"basis", "directional basis of glossy exitant light: haar (adaptive, default), tetra or sh"},
+      {"dir-eps", "haar: relative refinement threshold of the distributions (> 0; default 0.5)"},
+      {"dir-min-level", "haar: minimum subdivision level (0-8, default 1)"},
+      {"dir-max-level", "haar: maximum subdivision level (0-8, at least dir-min-level; default 3)"},
+      {"tetra-level", "tetra: subdivision level of the tetrahedron (0-8, default 3)"},
+      {"sh-order", "sh: spherical harmonics order, bands 0 to order-1 (1-32, default 8)"},
+  };
+}
+
+BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values) {
+  std::map<std::string, const hr::OptionValue*> given;
+  std::string valid;
+  for (const auto& s : isOptionSpecs()) valid += (valid.empty() ? "" : ", ") + s.name;
+  for (const auto& v : values) {
+    bool known = false;
+    for (const auto& s : isOptionSpecs()) known = known || s.name == v.name;
+    if (!known) fail(v.name, "not an option of --algorithm is (valid: " + valid + ")");
+    if (!given.emplace(v.name, &v).second) fail(v.name, "given twice");
+  }
+  BasisSpec b = defaultIsBasis();
+  if (auto it = given.find("basis"); it != given.end()) {
+    try {
+      b.basis = parseBasis(it->second->value);
+    } catch (const std::invalid_argument& e) {
+      fail("basis", e.what());
+    }
+  }
+  for (const auto& [name, v] : given) {
+    const char* o = owner(name);
+    if (o && std::string(o) != basisName(b.basis))
+      fail(name, std::string("applies to --basis ") + o + " only (the basis is " + basisName(b.basis) + ")");
+  }
+  if (auto it = given.find("dir-eps"); it != given.end()) {
+    b.haar.eps = parseDouble(*it->second);
+    if (!(b.haar.eps > 0.0)) fail("dir-eps", "must be > 0, got " + it->second->value);
+  }
+  if (auto it = given.find("dir-min-level"); it != given.end()) b.haar.minLevel = parseInt(*it->second, 0, kMaxDirLevel);
+  if (auto it = given.find("dir-max-level"); it != given.end()) b.haar.maxLevel = parseInt(*it->second, 0, kMaxDirLevel);
+  if (b.haar.minLevel > b.haar.maxLevel) {
+    bool minGiven = given.count("dir-min-level") != 0;
+    fail(minGiven ? "dir-min-level" : "dir-max-level",
+         "--dir-min-level (" + std::to_string(b.haar.minLevel) + ") must not exceed --dir-max-level (" +
+             std::to_string(b.haar.maxLevel) + ")");
+  }
+  if (auto it = given.find("tetra-level"); it != given.end()) b.tetraLevel = parseInt(*it->second, 0, TetraMesh::kMaxLevel);
+  if (auto it = given.find("sh-order"); it != given.end()) b.shOrder = parseInt(*it->second, 1, ShDistribution::kMaxOrder);
+  return b;
+}
+
+void validateIsBasis(const BasisSpec& b, const std::string& context) {
+  auto bad = [&](const std::string& why) { throw hr::InputError(context + ": " + why); };
+  if (b.basis != Basis::Haar && b.basis != Basis::Tetra && b.basis != Basis::Sh) bad("unknown basis");
+  if (!(b.haar.eps > 0.0) || !std::isfinite(b.haar.eps)) bad("bad dir-eps");
+  if (b.haar.minLevel < 0 || b.haar.maxLevel > kMaxDirLevel || b.haar.minLevel > b.haar.maxLevel) bad("bad Haar levels");
+  if (b.tetraLevel < 0 || b.tetraLevel > TetraMesh::kMaxLevel) bad("bad tetra-level");
+  if (b.shOrder < 1 || b.shOrder > ShDistribution::kMaxOrder) bad("bad sh-order");
+}
+
+}  // namespace glossy

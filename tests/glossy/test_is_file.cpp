@@ -1,0 +1,166 @@
+// The extension's section of the solution file: a saved solution loads over a view of its elements
+// (no clusters) and evaluates bit for bit as before; any damage (bit flips, truncation, random bytes,
+// overwritten spans, trailing bytes) is refused with hr::InputError and leaves the loaded state as it
+// was; a section of another version or one that does not fit the solution's elements is refused with
+// a message that says so.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "directions.h"
+#include "fake_host.h"
+
+namespace {
+
+using glossy::Rgb;
+using glossy::Vec3;
+using glossy::kPi;
+using testhost::NodeId;
+
+/// A lit scene whose extension has reflected and pulled once.
+struct Solved {
+  testhost::Scene scene;
+  std::unique_ptr<glossy::IlluminationSamples> ext;
+  explicit Solved(const char* basis) : ext(testhost::configured({{"basis", basis}})) {
+    ext->attach(scene.host);
+    std::mt19937_64 g(31);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (NodeId leaf : scene.host.simulatedLeaves(*ext)) {
+      Vec3 n = scene.host.info(leaf).normal;
+      std::vector<hr::IncidentSample> s;
+      for (int k = 0; k < 4; ++k) s.push_back(testhost::sample(testhost::around(n, std::acos(u(g)), 2 * kPi * u(g)), Rgb(u(g), 1.0, u(g))));
+      ext->reflect(leaf, s);
+    }
+    scene.host.pullAll(*ext);
+  }
+};
+
+/// Everything display and the energy audit read of the leaves, for bitwise comparison.
+std::vector<double> fingerprint(const hr::Extension& ext, const testhost::FakeHost& host) {
+  std::vector<double> out;
+  std::mt19937_64 g(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (NodeId leaf : host.simulatedLeaves(ext)) {
+    auto push = [&](const Rgb& v) { out.insert(out.end(), {v.x, v.y, v.z}); };
+    push(ext.reflectedPower(leaf));
+    out.push_back(double(ext.coefficients(leaf)));
+    for (int k = 0; k < 500; ++k) {
+      Vec3 d = testdirs::sphere(g), s;
+      push(ext.intensity(leaf, d));
+      push(ext.radiance(leaf, d));
+      push(ext.intensityBound(leaf, d, 0.9));
+      push(ext.sampleExitant(leaf, u(g), u(g), s));
+      push(s);
+    }
+  }
+  return out;
+}
+
+TEST(IsFile, RoundTripEvaluatesBitIdentically) {
+  for (const char* basis : {"haar", "tetra", "sh"}) {
+    Solved s(basis);
+    std::string bytes = s.ext->save();
+    testhost::FakeHost saved = s.scene.host.elementsOnly();
+    glossy::IlluminationSamples loaded;  // default options: the section states its basis
+    loaded.load(bytes, saved);
+    EXPECT_EQ(loaded.basis().basis, s.ext->basis().basis) << basis;
+    EXPECT_EQ(fingerprint(loaded, saved), fingerprint(*s.ext, s.scene.host)) << basis;
+    EXPECT_EQ(loaded.save(), bytes) << basis << ": saving again gives the same bytes";
+    std::printf("%-5s section: %zu bytes for %zu glossy leaves\n", basis, bytes.size(), saved.simulatedLeaves(loaded).size());
+  }
+}
+
+TEST(IsFile, DamagedSectionsAreRefused) {
+  // 200 damaged copies per basis: bit flips, truncations, random bytes, overwritten spans, trailing
+  // bytes. Each refused with InputError; after all of them the loaded solution is unchanged.
+  for (const char* basis : {"haar", "tetra", "sh"}) {
+    Solved s(basis);
+    const std::string bytes = s.ext->save();
+    testhost::FakeHost saved = s.scene.host.elementsOnly();
+    glossy::IlluminationSamples ext;
+    ext.load(bytes, saved);
+    const auto before = fingerprint(ext, saved);
+    std::mt19937_64 g(2024);
+    auto below = [&](std::size_t n) { return std::size_t(g() % std::max<std::size_t>(n, 1)); };
+    int refused = 0;
+    for (int k = 0; k < 200; ++k) {
+      std::string bad = bytes;
+      switch (k % 5) {
+        case 0:  // one to three bit flips
+          for (std::size_t f = 0, n = 1 + below(3); f < n; ++f) bad[below(bad.size())] ^= char(1 << below(8));
+          break;
+        case 1: bad.resize(below(bad.size())); break;
+        case 2: {
+          bad.resize(below(2 * bytes.size()));
+          for (char& c : bad) c = char(g());
+          break;
+        }
+        case 3: {
+          std::size_t at = below(bad.size()), len = 1 + below(64);
+          for (std::size_t i = at; i < std::min(bad.size(), at + len); ++i) bad[i] = char(g());
+          if (bad == bytes) bad[at] ^= 1;
+          break;
+        }
+        default: bad += std::string(1 + below(16), char(g())); break;
+      }
+      try {
+        ext.load(bad, saved);
+        ADD_FAILURE() << basis << ": damaged copy " << k << " accepted";
+      } catch (const hr::InputError& e) {
+        ++refused;
+        EXPECT_NE(std::string(e.what()).find("section of extension 'is'"), std::string::npos) << e.what();
+      }
+    }
+    EXPECT_EQ(refused, 200) << basis;
+    EXPECT_EQ(fingerprint(ext, saved), before) << basis << ": a refused load changes nothing";
+  }
+}
+
+/// FNV-1a 64 as the section uses it, to forge well-checksummed sections.
+std::string resealed(std::string body) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : body) h = (h ^ c) * 0x100000001b3ull;
+  for (int i = 0; i < 8; ++i) body += char((h >> (8 * i)) & 0xFF);
+  return body;
+}
+
+void expectRefusal(glossy::IlluminationSamples& ext, const std::string& bytes, const hr::HostView& view, const std::string& needle) {
+  try {
+    ext.load(bytes, view);
+    ADD_FAILURE() << "accepted; expected: " << needle;
+  } catch (const hr::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
+  Solved s("haar");
+  const std::string bytes = s.ext->save();
+  std::string body = bytes.substr(0, bytes.size() - 8);
+  testhost::FakeHost saved = s.scene.host.elementsOnly();
+  glossy::IlluminationSamples ext;
+  expectRefusal(ext, "", saved, "truncated");
+  expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
+  std::string v2 = body;
+  v2[4] = 2;  // the format version field
+  expectRefusal(ext, resealed(v2), saved, "format version 2, this build reads version 1");
+  std::string magic = body;
+  magic[0] = 'X';
+  expectRefusal(ext, resealed(magic), saved, "not an Illumination Samples section");
+  std::string eps = body;
+  for (int i = 12; i < 20; ++i) eps[std::size_t(i)] = char(0xFF);  // dir-eps: a NaN
+  expectRefusal(ext, resealed(eps), saved, "bad dir-eps");
+  // Views the section does not fit.
+  testhost::FakeHost fewer = saved;
+  fewer.elements.resize(3);
+  expectRefusal(ext, bytes, fewer, "more distributions than the solution has elements");
+  testhost::FakeHost matte = saved;
+  matte.materials[0].specular = Rgb(0.0);
+  expectRefusal(ext, bytes, matte, "its material is not glossy");
+  testhost::FakeHost split = saved;
+  split.split(s.scene.wall);
+  expectRefusal(ext, bytes, split, "not a planar leaf of the solution");
+}
+
+}  // namespace

@@ -1,0 +1,247 @@
+// Reflection of Illumination Samples at a glossy leaf against closed forms: the reflected power of one
+// sample is A E rho_s times the lobe's directional albedo (exactly rho_s A E at normal incidence), the
+// intensity at the mirror direction is A cos(theta_o) rho_s (n + 2) / (2 pi) E, a near-mirror lobe
+// (n = 10^4) keeps its power at the default (coarse) levels, grazing light and grazing views stay
+// finite, and merging samples from nearly one direction costs a stated, small error.
+#include <glossy/brdf.h>
+#include <glossy/is_options.h>
+#include <glossy/reflection.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "compare.h"
+#include "fake_host.h"
+
+namespace {
+
+using glossy::Rgb;
+using glossy::Vec3;
+using glossy::kPi;
+using testhost::NodeId;
+
+const Rgb kE(2.0, 1.0, 0.5);  // W/m^2, planar irradiance of the test samples
+
+/// Reflects one sample arriving at angle theta onto the first floor leaf (normal +z, 0.25 m^2).
+struct OneSample {
+  testhost::Scene scene;
+  std::unique_ptr<glossy::IlluminationSamples> ext;
+  NodeId leaf;
+  Vec3 wi;
+  OneSample(double exponent, double thetaDeg, const std::vector<hr::OptionValue>& o = {}, double phiDeg = 20.0)
+      : scene(exponent), ext(testhost::configured(o)), leaf(scene.floorLeaves[0]) {
+    ext->attach(scene.host);
+    wi = testhost::around(Vec3(0, 0, 1), thetaDeg * kPi / 180.0, phiDeg * kPi / 180.0);
+    hr::IncidentSample s = testhost::sample(wi, kE);
+    ext->reflect(leaf, {&s, 1});
+  }
+  double area() const { return scene.host.info(leaf).area; }
+  Rgb specular() const { return scene.host.materials[0].specular; }
+  /// rho_s A E times the specular albedo of a unit lobe of this exponent at wi.
+  Rgb expectedPower(double exponent) const {
+    double a = glossy::albedo(glossy::ModifiedPhong{Rgb(0.0), Rgb(1.0), exponent}, wi, Vec3(0, 0, 1)).x;
+    return specular() * area() * kE * a;
+  }
+};
+
+double worstRel(const Rgb& got, const Rgb& want) {
+  double w = 0.0;
+  for (int c = 0; c < 3; ++c) w = std::max(w, std::abs(got[c] / want[c] - 1.0));
+  return w;
+}
+
+TEST(IsReflection, NormalIncidencePowerIsRhoSAE) {
+  // At normal incidence the lobe's albedo is exactly 1: reflected power = rho_s A E per channel.
+  // Haar keeps the fine projection's power at any stored level: 1 %. The fixed bases are held to what
+  // the bases themselves do (measured, glossy_extension/README.md), as a regression bound: the tetrahedron
+  // interpolates point samples linearly, which overestimates a peaked lobe (+3.3 % at level 3,
+  // n = 10); spherical harmonics integrate exactly but ring below zero, and intensity() sends none of
+  // the negative part (+5.3 % at order 8).
+  struct Case {
+    std::vector<hr::OptionValue> options;
+    double tolerance;
+  };
+  const Case cases[] = {{{}, 0.01}, {{{"basis", "tetra"}}, 0.04}, {{{"basis", "sh"}}, 0.06}};
+  for (const Case& c : cases) {
+    for (double n : {10.0, 100.0, 1000.0}) {
+      OneSample s(n, 0.0, c.options);
+      Rgb want = s.specular() * s.area() * kE;
+      double err = worstRel(s.ext->reflectedPower(s.leaf), want);
+      std::printf("%-5s n = %-5g normal incidence: power error %.2e, %zu coefficients\n",
+                  glossy::basisName(s.ext->basis().basis), n, err, s.ext->coefficients(s.leaf));
+      EXPECT_LT(err, c.tolerance) << glossy::basisName(s.ext->basis().basis) << " n = " << n;
+    }
+  }
+}
+
+TEST(IsReflection, ObliqueIncidenceFollowsTheSpecularAlbedo) {
+  // The horizon cuts the lobe: power = A E rho_s albedo(theta). In the leaf's frame the horizon is a
+  // cell boundary, so the cut is represented exactly; 1 % at the default levels.
+  for (double n : {10.0, 100.0, 1000.0})
+    for (double theta : {30.0, 60.0, 80.0, 89.0}) {
+      OneSample s(n, theta);
+      double err = worstRel(s.ext->reflectedPower(s.leaf), s.expectedPower(n));
+      std::printf("haar n = %-5g theta %2g deg: albedo %.4f, power error %.2e\n", n, theta,
+                  s.expectedPower(n).x / (s.specular().x * s.area() * kE.x), err);
+      EXPECT_LT(err, 0.01) << "n = " << n << " theta = " << theta;
+    }
+}
+
+TEST(IsReflection, MirrorIntensityMatchesTheClosedForm) {
+  // I(mirror) = A cos(theta_o) rho_s (n + 2) / (2 pi) E. A Haar cell holds the mean over the cell, so
+  // the peak is matched to the resolution of the levels: within 1 % with cells refined to eps 0.02,
+  // levels up to 8 (about 0.35 degrees); coarser levels (the default's cells span ~11 degrees) printed.
+  const double n = 100.0, theta = 35.0;
+  for (int level : {3, 5, 8}) {
+    std::vector<hr::OptionValue> o = {{"dir-eps", "0.02"}, {"dir-max-level", std::to_string(level)}};
+    OneSample s(n, theta, o);
+    Vec3 m = glossy::mirror(s.wi, Vec3(0, 0, 1));
+    Rgb want = s.area() * m.z * s.specular() * ((n + 2.0) / (2.0 * kPi)) * kE;
+    double err = worstRel(s.ext->intensity(s.leaf, m), want);
+    std::printf("n = %g, max level %d: intensity at the mirror direction off by %.3f\n", n, level, err);
+    if (level == 8) {
+      EXPECT_LT(err, 0.01);
+    }
+  }
+}
+
+TEST(IsReflection, NearMirrorLobeKeepsItsPowerAtTheDefaultLevels) {
+  // n = 10^4: a lobe 1.7 degrees wide inside cells of 11 degrees. The reference projection resolves it
+  // (hints) and the cut keeps its power: within 1 %, everything finite.
+  for (double theta : {0.0, 30.0, 70.0}) {
+    OneSample s(1e4, theta);
+    Rgb p = s.ext->reflectedPower(s.leaf);
+    double err = worstRel(p, s.expectedPower(1e4));
+    std::printf("n = 1e4, theta %2g deg: power error %.2e, %zu coefficients\n", theta, err, s.ext->coefficients(s.leaf));
+    EXPECT_LT(err, 0.01) << "theta " << theta;
+    Vec3 m = glossy::mirror(s.wi, Vec3(0, 0, 1));
+    EXPECT_TRUE(hr::allFinite(s.ext->intensity(s.leaf, m)));
+    EXPECT_TRUE(hr::allFinite(s.ext->radiance(s.leaf, m)));
+    EXPECT_GT(s.ext->intensity(s.leaf, m).x, 0.0);
+  }
+}
+
+TEST(IsReflection, GrazingLightAndGrazingViewsStayFinite) {
+  for (const char* basis : {"haar", "tetra", "sh"}) {
+    for (double theta : {89.9, 89.999999, 90.0 - 1e-12}) {
+      OneSample s(100.0, theta, {{"basis", basis}});
+      Rgb p = s.ext->reflectedPower(s.leaf);
+      EXPECT_TRUE(hr::allFinite(p)) << basis << " " << theta;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(p[c], 0.0);
+        EXPECT_LE(p[c], 1.02 * s.specular()[c] * s.area() * kE[c]) << basis << ": no more than rho_s A E";
+      }
+    }
+    // A lobe reflected toward the horizon, viewed ever closer to the horizon: radiance stays finite
+    // and bounded by the lobe's peak radiance (f_s E at the mirror direction) times a small factor.
+    OneSample s(100.0, 80.0, {{"basis", basis}});
+    double peakL = s.specular().x * (102.0 / (2.0 * kPi)) * kE.x;
+    double worst = 0.0;
+    for (double elev : {10.0, 1.0, 1e-2, 1e-4, 1e-8, 1e-12, 0.0}) {
+      Vec3 toEye = testhost::around(Vec3(0, 0, 1), (90.0 - elev) * kPi / 180.0, 200.0 * kPi / 180.0);
+      Rgb L = s.ext->radiance(s.leaf, toEye);
+      EXPECT_TRUE(hr::allFinite(L)) << basis << " elevation " << elev;
+      worst = std::max(worst, L.x / peakL);
+    }
+    std::printf("%-5s grazing views: largest radiance / lobe peak radiance %.3f\n", basis, worst);
+    EXPECT_LT(worst, 3.0) << basis;
+  }
+}
+
+TEST(IsReflection, MergingNearbySamplesCostsLittle) {
+  // 64 samples from directions spread 2 degrees around 40 degrees incidence (one sender split into
+  // many links), random irradiances. Merged into bins of 1/16 of the lobe's width, projected, and
+  // compared with the unmerged projection at the same settings: power within 0.1 %, relative L1
+  // difference of the intensities within 2 %.
+  for (double n : {100.0, 1000.0, 1e4}) {
+    std::mt19937_64 g(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Vec3 centre = testhost::around(Vec3(0, 0, 1), 40.0 * kPi / 180.0);
+    std::vector<hr::IncidentSample> samples;
+    for (int k = 0; k < 64; ++k)
+      samples.push_back(testhost::sample(testhost::around(centre, 2.0 * kPi / 180.0 * std::sqrt(u(g)), 2.0 * kPi * u(g)),
+                                         Rgb(u(g), u(g), u(g))));
+    glossy::BasisSpec b = glossy::defaultIsBasis();
+    b.haar.maxLevel = 6;
+    glossy::Frame f = glossy::Frame::around(Vec3(0, 0, 1));
+    glossy::ReflectCounts rc;
+    auto merged = glossy::makeLobes(samples, f, Vec3(0, 0, 1), 1.0, Rgb(0.5), n, glossy::mergeAngle(n), rc);
+    auto plain = glossy::makeLobes(samples, f, Vec3(0, 0, 1), 1.0, Rgb(0.5), n, 0.0, rc);
+    auto pm = glossy::projectLobes(merged, b, rc), pp = glossy::projectLobes(plain, b, rc);
+    double powerErr = std::abs(hr::luminance(std::get<glossy::HaarDistribution>(pm).leafIntegral()) /
+                                   hr::luminance(std::get<glossy::HaarDistribution>(pp).leafIntegral()) -
+                               1.0);
+    // Pointwise: evaluate both distributions directly (the leaf's frame is the world frame here).
+    Vec3 m = glossy::mirror(centre, Vec3(0, 0, 1));
+    double l1 = testdirs::relativeL1([&](const Vec3& d) { return hr::luminance(glossy::eval(pm, d)); },
+                                     [&](const Vec3& d) { return hr::luminance(glossy::eval(pp, d)); }, m);
+    std::printf("merge n = %-5g: %zu of 64 samples kept, power difference %.2e, relative L1 difference %.4f, "
+                "coefficients %zu vs %zu\n",
+                n, merged.samples.size(), powerErr, l1, glossy::coefficients(pm), glossy::coefficients(pp));
+    EXPECT_LT(merged.samples.size(), 64u);
+    EXPECT_LT(powerErr, 1e-3) << n;
+    EXPECT_LT(l1, 0.02) << n;
+  }
+}
+
+TEST(IsReflection, SamplesWithoutFrontLightAreDropped) {
+  testhost::Scene scene;
+  auto ext = testhost::configured();
+  ext->attach(scene.host);
+  const double nan = std::nan("");
+  std::vector<hr::IncidentSample> bad = {
+      testhost::sample(Vec3(0, 0, -1), kE),            // from behind
+      testhost::sample(Vec3(1, 0, 0), kE),             // exactly in the plane
+      testhost::sample(Vec3(0, 0, 1), Rgb(0.0)),       // no light
+      testhost::sample(Vec3(0, 0, 1), Rgb(-1.0, 1, 1)),  // negative
+      {Vec3(nan, 0, 1), kE},
+      {Vec3(0, 0, 1), Rgb(nan, 1, 1)},
+      {Vec3(0.0), kE},
+  };
+  ext->reflect(scene.floorLeaves[0], bad);
+  EXPECT_EQ(ext->light(scene.floorLeaves[0]), nullptr);
+  EXPECT_EQ(ext->reflectedPower(scene.floorLeaves[0]), Rgb(0.0));
+  for (const auto& s : ext->stats())
+    if (s.name == "samples_dropped_no_front_light") {
+      EXPECT_EQ(s.value, double(bad.size()));
+    }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(IsConvergence, PowerChangeIsTheChangeOfTheLeavesPower) {
+  // From dark, the change is the reflected power (luminance, W); the same samples again change
+  // nothing; doubled irradiance (an exact scaling in binary) changes it by the power once more.
+  testhost::Scene scene;
+  auto ext = testhost::configured();
+  ext->attach(scene.host);
+  auto leaves = scene.host.simulatedLeaves(*ext);
+  auto lightAll = [&](double scale) {
+    for (NodeId leaf : leaves) {
+      Vec3 n = scene.host.info(leaf).normal;
+      std::vector<hr::IncidentSample> s = {testhost::sample(testhost::around(n, 0.4, leaf.value), scale * kE),
+                                           testhost::sample(testhost::around(n, 1.1, 2.0 * leaf.value), 0.5 * scale * kE)};
+      ext->reflect(leaf, s);
+    }
+    scene.host.pullAll(*ext);
+  };
+  auto total = [&] {
+    double sum = 0.0;
+    for (NodeId leaf : leaves) sum += hr::luminance(ext->reflectedPower(leaf));
+    return sum;
+  };
+  lightAll(1.0);
+  const double first = total();
+  EXPECT_GT(first, 0.0);
+  EXPECT_NEAR(ext->powerChange(), first, 1e-12 * first);
+  lightAll(1.0);
+  EXPECT_EQ(ext->powerChange(), 0.0);
+  lightAll(2.0);
+  EXPECT_NEAR(total(), 2.0 * first, 1e-12 * first);
+  EXPECT_NEAR(ext->powerChange(), first, 1e-12 * first);
+}
+
+}  // namespace
