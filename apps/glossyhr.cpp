@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <hr/camera.h>
 #include <hr/output.h>
+#include <hr/solution_view.h>
 #include <hr/solver.h>
 #include <tbb/global_control.h>
 
@@ -13,7 +14,9 @@
 #include <filesystem>
 #include <thread>
 
+#include "extension_cli.h"
 #include "info_command.h"
+#include "inspect_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
 #include "registry.h"
@@ -28,11 +31,13 @@ struct SolveArgs {
   int maxLevel = -1, rays = -1, threads = 0, maxIterations = -1;
   long long seed = -1;
   bool quiet = false;
+  ExtensionOptions extension;
 };
 
-void writeImages(const hr::Solution& sol, const std::string& dir, bool quiet, std::vector<std::string>& written) {
+void writeImages(const hr::Solution& sol, const hr::Extension* ext, const std::string& dir, bool quiet,
+                 std::vector<std::string>& written) {
   for (const hr::Camera& cam : sol.cameras) {
-    hr::Image img = hr::render(sol, cam);
+    hr::Image img = hr::render(sol, cam, ext);
     std::string exr = (fs::path(dir) / (cam.name + ".exr")).string();
     std::string png = (fs::path(dir) / (cam.name + ".png")).string();
     hr::writeExr(img, exr);
@@ -49,7 +54,7 @@ int runSolve(const SolveArgs& a) {
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
-  const auto& entry = adapters::findExtension(a.algorithm);
+  std::unique_ptr<hr::Extension> ext = a.extension.make(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
   if (a.eps > 0) opt.eps = a.eps;
   if (a.maxLevel >= 0) opt.maxLevel = a.maxLevel;
@@ -68,16 +73,29 @@ int runSolve(const SolveArgs& a) {
   if (rep.splitNonPlanar)
     std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.splitNonPlanar);
   hr::Hierarchy hier(std::move(patches));
+  if (ext) {
+    // Only the effects a scene calls for: an extension that simulates none of its materials is not
+    // loaded at all, so the run is the diffuse core's to the bit.
+    bool needed = false;
+    for (const hr::Material& m : scene.materials)
+      needed = needed || ext->simulates({m.diffuse, m.specular, m.exponent, m.emission});
+    if (!needed) {
+      if (!a.quiet)
+        std::fprintf(stderr, "note: no material of this scene needs --algorithm %s: solved by the diffuse core alone\n",
+                     a.algorithm.c_str());
+      ext.reset();
+    }
+  }
   if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(hier.bounds()));
   progress.phase("building visibility");
   hr::Visibility vis(hier.patches());
-  auto ext = entry.make ? entry.make() : nullptr;
   hr::Solver solver(scene, hier, vis, opt, ext.get(), &progress);
   hr::SolveStats st = solver.solve();
 
   progress.phase("writing outputs");
   hr::Solution sol = hr::makeSolution(scene, hier, solver.radiosity());
   sol.algorithm = a.algorithm;
+  if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
   fs::create_directories(a.out);
@@ -90,13 +108,15 @@ int runSolve(const SolveArgs& a) {
   run.threads = threads;
   run.raysPerLink = opt.raysPerLink;
   run.seed = opt.seed;
+  if (ext)
+    for (const auto& e : ext->stats()) run.extension.emplace_back(e.name, e.value);
   std::string ghrs = (fs::path(a.out) / "solution.ghrs").string();
   std::string vtp = (fs::path(a.out) / "solution.vtp").string();
   hr::saveSolution(sol, ghrs);
-  hr::writeVtp(sol, vtp);
+  hr::writeVtp(sol, vtp, ext.get());
   written.push_back(ghrs);
   written.push_back(vtp);
-  writeImages(sol, a.out, a.quiet, written);
+  writeImages(sol, ext.get(), a.out, a.quiet, written);
   std::string stats = (fs::path(a.out) / "stats.json").string();
   hr::writeFileAtomically(stats, hr::statsJson(run, st, hr::peakRssBytes()));
   written.push_back(stats);
@@ -117,26 +137,59 @@ int runSolve(const SolveArgs& a) {
   return st.converged ? 0 : 3;
 }
 
-int runRender(const std::string& solution, const std::string& camera, const std::string& image, bool quiet) {
-  hr::Solution sol = hr::loadSolution(solution);
-  const hr::Camera* cam = nullptr;
-  std::string names;
-  for (const auto& c : sol.cameras) {
-    if (camera.empty() || c.name == camera) {
-      cam = &c;
-      break;
+struct RenderArgs {
+  std::string solution, camera, image;
+  std::vector<double> eye, lookAt, up;  // a camera the scene did not have
+  double fov = 45.0;
+  int width = 0, height = 0;
+  bool quiet = false;
+};
+
+/// The camera a render asks for: a named one of the solution's, or one made from --eye and
+/// --look-at (with --up, --fov and the size), or the solution's first.
+hr::Camera chooseCamera(const RenderArgs& a, const hr::Solution& sol) {
+  if (!a.eye.empty() || !a.lookAt.empty()) {
+    if (!a.camera.empty()) throw hr::InputError("--camera and --eye/--look-at are alternatives: give one");
+    if (a.eye.size() != 3 || a.lookAt.size() != 3) throw hr::InputError("--eye and --look-at: give both, as X,Y,Z");
+    hr::Camera c;
+    c.name = "custom";
+    c.eye = {a.eye[0], a.eye[1], a.eye[2]};
+    c.lookAt = {a.lookAt[0], a.lookAt[1], a.lookAt[2]};
+    if (!a.up.empty()) {
+      if (a.up.size() != 3) throw hr::InputError("--up: give X,Y,Z");
+      c.up = {a.up[0], a.up[1], a.up[2]};
     }
+    if (!hr::allFinite(c.eye) || !hr::allFinite(c.lookAt) || !hr::allFinite(c.up))
+      throw hr::InputError("--eye/--look-at/--up: finite numbers only");
+    if (glm::length(c.lookAt - c.eye) <= 0.0) throw hr::InputError("--look-at: must differ from --eye");
+    if (glm::length(glm::cross(c.lookAt - c.eye, c.up)) <= 0.0) throw hr::InputError("--up: must not be parallel to the view");
+    if (!(a.fov > 0.0 && a.fov < 180.0)) throw hr::InputError("--fov: degrees in (0, 180)");
+    c.fovYDeg = a.fov;
+    c.width = a.width > 0 ? a.width : sol.cameras.empty() ? 320 : sol.cameras.front().width;
+    c.height = a.height > 0 ? a.height : sol.cameras.empty() ? 240 : sol.cameras.front().height;
+    return c;
   }
+  if (a.width > 0 || a.height > 0) throw hr::InputError("--width/--height: only with --eye and --look-at");
+  std::string names;
   for (const auto& c : sol.cameras) names += (names.empty() ? "" : ", ") + c.name;
-  if (!cam) throw hr::InputError("--camera: no camera \"" + camera + "\" in " + solution + " (cameras: " + names + ")");
-  std::string ext = fs::path(image).extension().string();
-  if (ext != ".exr" && ext != ".png") throw hr::InputError("-o: image must end in .exr or .png");
-  hr::Image img = hr::render(sol, *cam);
-  if (ext == ".exr")
-    hr::writeExr(img, image);
+  for (const auto& c : sol.cameras)
+    if (a.camera.empty() || c.name == a.camera) return c;
+  throw hr::InputError("--camera: no camera \"" + a.camera + "\" in " + a.solution + " (cameras: " + names + ")");
+}
+
+int runRender(const RenderArgs& a) {
+  std::string kind = fs::path(a.image).extension().string();
+  if (kind != ".exr" && kind != ".png") throw hr::InputError("-o: image must end in .exr or .png");
+  hr::Solution sol = hr::loadSolution(a.solution);
+  hr::Camera cam = chooseCamera(a, sol);
+  hr::SolutionView view(sol);
+  std::unique_ptr<hr::Extension> ext = loadExtension(sol, view, a.solution);
+  hr::Image img = hr::render(sol, cam, ext.get());
+  if (kind == ".exr")
+    hr::writeExr(img, a.image);
   else
-    hr::writePng(img, image);
-  if (!quiet) std::fprintf(stderr, "rendered camera \"%s\" to %s\n", cam->name.c_str(), image.c_str());
+    hr::writePng(img, a.image);
+  if (!a.quiet) std::fprintf(stderr, "rendered camera \"%s\" to %s\n", cam.name.c_str(), a.image.c_str());
   return 0;
 }
 
@@ -158,13 +211,26 @@ int main(int argc, char** argv) {
   solve->add_option("--seed", sa.seed, "random seed for shadow-ray sampling");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
-  std::string solPath, camera, image;
-  bool rquiet = false;
-  auto* render = app.add_subcommand("render", "render a saved solution (.ghrs) again");
-  render->add_option("solution", solPath, "solution.ghrs")->required();
-  render->add_option("--camera", camera, "camera name (default: the first)");
-  render->add_option("-o,--output", image, "output image (.exr or .png)")->required();
-  render->add_flag("--quiet", rquiet, "no progress on stderr");
+  sa.extension.addTo(solve);
+  RenderArgs ra0;
+  auto* render = app.add_subcommand("render", "render a saved solution (.ghrs) again, from any camera");
+  render->add_option("solution", ra0.solution, "solution.ghrs")->required();
+  render->add_option("--camera", ra0.camera, "camera name (default: the first)");
+  render->add_option("--eye", ra0.eye, "a new camera's eye X,Y,Z (m)")->delimiter(',')->expected(3);
+  render->add_option("--look-at", ra0.lookAt, "a new camera's target X,Y,Z (m)")->delimiter(',')->expected(3);
+  render->add_option("--up", ra0.up, "a new camera's up direction X,Y,Z")->delimiter(',')->expected(3);
+  render->add_option("--fov", ra0.fov, "a new camera's vertical field of view, degrees")->capture_default_str();
+  render->add_option("--width", ra0.width, "a new camera's width, pixels")->check(CLI::Range(1, 16384));
+  render->add_option("--height", ra0.height, "a new camera's height, pixels")->check(CLI::Range(1, 16384));
+  render->add_option("-o,--output", ra0.image, "output image (.exr or .png)")->required();
+  render->add_flag("--quiet", ra0.quiet, "no progress on stderr");
+  InspectArgs ia;
+  auto* inspect = app.add_subcommand("inspect", "one element of a saved solution: its light and directional lobe");
+  inspect->add_option("solution", ia.solution, "solution.ghrs")->required();
+  inspect->add_option("--element", ia.element, "element id (as in solution.vtp's element_id)");
+  inspect->add_option("--point", ia.point, "the element under point X,Y,Z (m)")->delimiter(',')->expected(3);
+  inspect->add_option("-o,--output", ia.out, "write the lobe as a VTK surface (.vtp)");
+  inspect->add_flag("--json", ia.json, "print the report as JSON");
   LobeArgs la;
   auto* lobe = app.add_subcommand("lobe", "project one material's reflected lobe into a directional basis and measure it");
   lobe->add_option("--exponent", la.exponent, "Phong exponent n")->capture_default_str();
@@ -209,7 +275,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*solve) return runSolve(sa);
-    if (*render) return runRender(solPath, camera, image, rquiet);
+    if (*render) return runRender(ra0);
+    if (*inspect) return runInspect(ia);
     if (*lobe) return runLobe(la);
     if (*reference) return runReference(ra);
     if (*compare) return runCompare(ca);

@@ -3,15 +3,10 @@
 // integral_rel_error), and the lobe as a VTK surface whose radius and colour are the projected value.
 #include "lobe_command.h"
 
+#include "lobe_surface.h"
+
 #include <glossy/lobe.h>
 #include <hr/output.h>
-#include <hr/vtk_io.h>
-#include <vtkCellArray.h>
-#include <vtkDoubleArray.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
 
 #include <cmath>
 #include <cstdio>
@@ -62,40 +57,6 @@ glossy::BasisSpec basisFrom(const LobeArgs& a) {
   return b;
 }
 
-/// The lobe on a fine sphere (the level-7 tetrahedron mesh): radius = luminance of the projected
-/// value, colour arrays for the projected and the analytic intensity.
-void writeLobeVtp(const std::string& path, const glossy::AnyDistribution& d, const glossy::Lobe& lobe) {
-  const glossy::TetraMesh& m = glossy::TetraMesh::get(7);
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  vtkNew<vtkDoubleArray> projected, analytic;
-  projected->SetName("intensity");
-  projected->SetNumberOfComponents(3);
-  analytic->SetName("analytic_intensity");
-  analytic->SetNumberOfComponents(3);
-  for (std::size_t i = 0; i < m.vertexCount(); ++i) {
-    const glossy::Vec3& v = m.vertex(i);
-    glossy::Rgb p = glossy::eval(d, v), t = lobe(v);
-    double r = std::max(0.0, hr::luminance(p));  // spherical harmonics may ring below zero
-    pts->InsertNextPoint(r * v.x, r * v.y, r * v.z);
-    projected->InsertNextTuple3(p.x, p.y, p.z);
-    analytic->InsertNextTuple3(t.x, t.y, t.z);
-  }
-  vtkNew<vtkCellArray> polys;
-  for (std::size_t t = 0; t < m.triangleCount(); ++t) {
-    const auto& tri = m.triangle(t);
-    vtkIdType ids[3] = {vtkIdType(tri[0]), vtkIdType(tri[1]), vtkIdType(tri[2])};
-    polys->InsertNextCell(3, ids);
-  }
-  vtkNew<vtkPolyData> pd;
-  pd->SetPoints(pts);
-  pd->SetPolys(polys);
-  pd->GetPointData()->AddArray(projected);
-  pd->GetPointData()->AddArray(analytic);
-  pd->GetPointData()->SetActiveScalars("intensity");
-  hr::writePolyData(pd, path);
-}
-
 }  // namespace
 
 int runLobe(const LobeArgs& a) {
@@ -115,7 +76,11 @@ int runLobe(const LobeArgs& a) {
   spec.hints = !a.noHints;
   glossy::AnyDistribution d;
   glossy::LobeReport r = glossy::analyzeLobe(spec, basis, true, &d);
-  if (!a.out.empty()) writeLobeVtp(a.out, d, glossy::Lobe(spec));
+  if (!a.out.empty()) {
+    glossy::Lobe analytic(spec);
+    writeLobeSurface(a.out, {{"intensity", [&](const hr::Vec3& v) { return glossy::eval(d, v); }},
+                             {"analytic_intensity", [&](const hr::Vec3& v) { return analytic(v); }}});
+  }
   if (a.json) {
     nlohmann::json j;
     j["basis"] = basis.describe();

@@ -11,7 +11,7 @@ namespace hr {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'H', 'R', 'S', '\r', '\n', 0x1a, '\n'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the extension section
 
 class Out {
  public:
@@ -68,6 +68,12 @@ class In {
     return n;
   }
   bool atEnd() const { return pos_ == d_.size(); }
+  std::string bytes(std::uint64_t n) {
+    if (n > d_.size() - pos_) throw InputError(path_ + ": truncated solution file (extension section)");
+    std::string b = d_.substr(pos_, n);
+    pos_ += n;
+    return b;
+  }
 
  private:
   std::string d_;
@@ -105,6 +111,12 @@ void saveSolution(const Solution& s, const std::string& path) {
     o.poly(e.poly);
     o.pod(e.patch), o.pod(e.firstChild), o.pod(e.level), o.vec(e.radiosity);
   }
+  // The extension's section: its name, its own format version and its bytes (empty name: none).
+  o.buf_.append("EXTN", 4);
+  o.str(s.extension.name);
+  o.pod(s.extension.version);
+  o.pod<std::uint64_t>(s.extension.bytes.size());
+  o.buf_ += s.extension.bytes;
   o.buf_.append("END!", 4);
   writeFileAtomically(path, o.buf_);
 }
@@ -159,6 +171,10 @@ Solution loadSolution(const std::string& path) {
     s.elements.push_back(e);
   }
   if (s.elements.size() < s.patches.size()) throw InputError(path + ": corrupt solution file (element count)");
+  if (in.pod<std::uint32_t>() != 0x4E545845u) throw InputError(path + ": corrupt solution file (extension section)");
+  s.extension.name = in.str();
+  s.extension.version = in.pod<std::uint32_t>();
+  s.extension.bytes = in.bytes(in.pod<std::uint64_t>());
   if (in.pod<std::uint32_t>() != 0x21444E45u || !in.atEnd()) throw InputError(path + ": corrupt solution file (trailer)");
   reconstruct(s);
   return s;

@@ -110,6 +110,7 @@ struct Solver::Impl final : public HostView {
       double res = 0.0;
       for (std::uint32_t p = 0; p < h.patches().size(); ++p)
         res += h.patches()[p].area * std::abs(luminance(s.B[p] - s.Bprev[p]));
+      if (s.ext) res += s.ext->powerChange();  // the extension's light converges too
       IterationStat is;
       is.iteration = it;
       is.residualW = res;

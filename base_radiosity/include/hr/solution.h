@@ -19,6 +19,14 @@ struct SolutionElement {
   bool leaf() const { return firstChild == kNone; }
 };
 
+/// An extension's part of a solution: its name in the extension table, the version of its format and
+/// the bytes its save() wrote (the solution file's tagged extension section).
+struct ExtensionData {
+  std::string name;  // empty: the run had no extension
+  std::uint32_t version = 0;
+  std::string bytes;
+};
+
 struct Solution {
   std::string sceneName;
   std::string host = "bright";
@@ -28,6 +36,8 @@ struct Solution {
   std::vector<Material> materials;
   std::vector<Camera> cameras;
   std::uint32_t objectCount = 0;
+
+  ExtensionData extension;
 
   /// Per leaf corner, smoothed radiosity (W/m^2): filled by reconstruct().
   std::vector<std::array<Rgb, 4>> cornerRadiosity;
@@ -43,6 +53,8 @@ void reconstruct(Solution& s);
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
 /// Smoothly reconstructed radiosity at point x on the leaf, W/m^2.
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x);
+/// Any per-corner values of a leaf (e.g. radiance toward an eye) interpolated at x the same way.
+Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& corners);
 
 /// Versioned binary solution file (.ghrs). Throws InputError on a truncated or foreign file.
 void saveSolution(const Solution& s, const std::string& path);
