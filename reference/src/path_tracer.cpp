@@ -146,21 +146,24 @@ CameraResult PathTracer::render(const hr::Camera& cam, const Options& o, hr::Pro
   r.image.rgb.assign(3 * P, 0.0f);
   r.variance.assign(3 * P, 0.0f);
   double mean = 0.0, varMean = 0.0;
+  // A pixel's mean needs one sample, its variance two: with fewer the variance is unknown (left 0 and
+  // flagged), never the image (one sample is an unbiased estimate; skipping it made spp 1 black).
   for (std::size_t i = 0; i < P; ++i) {
     double n = double(done) - bad[i];
     r.nonFinite += bad[i];
-    if (n < 2.0) continue;
+    if (n < 1.0) continue;
+    if (n < 2.0) r.varianceKnown = false;
     for (int c = 0; c < 3; ++c) {
       double m = sum[3 * i + c] / n;
       r.image.rgb[3 * i + c] = static_cast<float>(m);
-      r.variance[3 * i + c] = static_cast<float>(std::max(0.0, (sum2[3 * i + c] - n * m * m) / (n * (n - 1.0))));
+      if (n >= 2.0) r.variance[3 * i + c] = static_cast<float>(std::max(0.0, (sum2[3 * i + c] - n * m * m) / (n * (n - 1.0))));
     }
     double lm = lsum[i] / n;
     mean += lm;
-    varMean += std::max(0.0, (lsum2[i] - n * lm * lm) / (n * (n - 1.0)));
+    if (n >= 2.0) varMean += std::max(0.0, (lsum2[i] - n * lm * lm) / (n * (n - 1.0)));
   }
   r.meanLuminance = mean / double(P);
-  r.relStdError = r.meanLuminance > 0.0 ? std::sqrt(varMean) / double(P) / r.meanLuminance : 0.0;
+  r.relStdError = r.meanLuminance > 0.0 && r.varianceKnown ? std::sqrt(varMean) / double(P) / r.meanLuminance : 0.0;
   return r;
 }
 

@@ -35,6 +35,7 @@ struct CameraResult {
   std::uint64_t paths = 0;
   double meanLuminance = 0.0;      // image mean, W/(m^2 sr)
   double relStdError = 0.0;        // estimated standard error of that mean, relative
+  bool varianceKnown = true;       // false with one sample per pixel: variance and relStdError are 0, unknown
   std::uint64_t nonFinite = 0;     // samples dropped as non-finite (should stay 0)
 };
 
