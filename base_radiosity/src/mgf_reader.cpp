@@ -249,18 +249,14 @@ class MgfReader {
         }
         // An array: the enclosed lines up to the matching "xf" repeat N times, copy k with the
         // array's transform applied k times (after the transforms that precede -a).
-        std::size_t j = i + 1;
-        for (int open = 1; j < e; ++j) {
-          if (lines[j].tok[0] != "xf") continue;
-          open += lines[j].tok.size() == 1 ? -1 : 1;
-          if (open == 0) break;
-        }
+        std::size_t j = closing(lines, i, e);
         if (j >= e) fail(l, "array without its closing xf");
         std::size_t at = std::size_t(arr - l.tok.begin());
         glm::dmat4 pre = xform(l, 1, at);
         int n = count(l, at + 1, 1);
-        // The copies evaluate the enclosed lines n times: refuse up front what the limit cannot hold.
-        afford(l, std::uint64_t(n) * (j - i));
+        // The copies evaluate the enclosed lines n times, nested arrays multiplied out: refuse up
+        // front what the limit cannot hold, instead of running into it after minutes.
+        afford(l, std::min<std::uint64_t>(limits::kMaxMgfWork + 1, std::uint64_t(n) * cost(lines, i + 1, j)));
         glm::dmat4 step = xform(l, at + 2, l.tok.size()), acc(1.0);
         for (int c = 0; c < n; ++c) {
           xf_.push_back(acc * pre);
@@ -285,7 +281,7 @@ class MgfReader {
         try {
           text = readInputFile(f.string(), "included MGF file", limits::kMaxMgfBytes);
         } catch (const InputError& err) {
-          fail(l, err.what());
+          fail(l, std::string("cannot open included file ") + err.what());
         }
         readText(std::move(text), f.string(), m);
       } else if (k == "v") {
@@ -309,6 +305,34 @@ class MgfReader {
     }
   }
   std::size_t depthFloor() const { return files_.size(); }  // each file's own xf sits at its base
+
+  /// The line of the "xf" that closes the context opened at line i (e if none before e).
+  static std::size_t closing(const std::vector<Line>& lines, std::size_t i, std::size_t e) {
+    std::size_t j = i + 1;
+    for (int open = 1; j < e; ++j) {
+      if (lines[j].tok[0] != "xf") continue;
+      open += lines[j].tok.size() == 1 ? -1 : 1;
+      if (open == 0) break;
+    }
+    return j;
+  }
+  /// Lines that [b, e) evaluates, arrays multiplied out, saturating just above the work limit.
+  static std::uint64_t cost(const std::vector<Line>& lines, std::size_t b, std::size_t e) {
+    const std::uint64_t cap = limits::kMaxMgfWork + 1;
+    std::uint64_t c = 0;
+    for (std::size_t i = b; i < e && c < cap; ++i) {
+      ++c;
+      const Line& l = lines[i];
+      auto arr = std::find(l.tok.begin(), l.tok.end(), "-a");
+      if (l.tok[0] != "xf" || arr == l.tok.end() || arr + 1 == l.tok.end()) continue;
+      std::size_t j = closing(lines, i, e);
+      double n = std::strtod((arr + 1)->c_str(), nullptr);
+      n = std::isfinite(n) ? std::clamp(n, 1.0, double(cap)) : 1.0;  // run() refuses bad counts itself
+      c += std::min<std::uint64_t>(cap, std::uint64_t(n) * cost(lines, i + 1, std::min(j, e)));
+      i = j;
+    }
+    return std::min(c, cap);
+  }
 
   // ---- vertices ---------------------------------------------------------------------------------
   /// The grammar v, c and m share: "kind" alone resets the unnamed context, "kind id" selects a

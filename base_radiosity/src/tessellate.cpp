@@ -255,6 +255,9 @@ std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
 /// Every vertex an object produced lies where single-precision rays still work (hr/limits.h): the
 /// readers check the values they read, but transforms, MGF contexts and mesh files combine them.
 void checkPlacement(const std::vector<Patch>& patches, std::size_t from, const Object& o) {
+  if (patches.size() > limits::kMaxPatches)
+    throw InputError(o.where + ": the scene tessellates into more than " + std::to_string(limits::kMaxPatches) +
+                     " patches (the documented limit)");
   for (std::size_t i = from; i < patches.size(); ++i)
     for (int k = 0; k < patches[i].poly.n; ++k) {
       const Vec3& v = patches[i].poly.v[k];

@@ -59,8 +59,9 @@ inline constexpr std::uint64_t kMaxSolutionBytes = 4ull << 30;
 inline constexpr std::uint64_t kMaxImageBytes = 2ull << 30;
 
 // Work.
-inline constexpr std::uint64_t kMaxMgfWork = 20'000'000;  // entity lines evaluated, array copies included
-inline constexpr std::uint64_t kMaxObjects = 5'000'000;   // scene objects (MGF entities become objects)
+inline constexpr std::uint64_t kMaxMgfWork = 10'000'000;  // entity lines evaluated, array copies included
+inline constexpr std::uint64_t kMaxObjects = 1'000'000;   // scene objects (MGF entities become objects)
+inline constexpr std::size_t kMaxPatches = 10'000'000;    // root patches after tessellation (~1.4 GB)
 inline constexpr std::size_t kMaxFaceVertices = 4096;     // per MGF/OBJ/PLY face (ear clipping is quadratic)
 inline constexpr std::uint64_t kMaxMeshElements = 20'000'000;  // vertices or faces one mesh file declares
 inline constexpr int kMaxMgfIterate = 100000;             // xf -i N and -a N
