@@ -18,12 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-hr::SolverOptions quick() {
-  hr::SolverOptions o;
-  o.eps = 1e-3;
-  o.maxLevel = 4;
-  return o;
-}
+hr::SolverOptions quick() { return testutil::options(1e-3, 4); }
 
 TEST(Outputs, VtpReadsBackWithVtk) {
   auto s = testutil::solveText(hr::kDefaultSceneJson, quick());

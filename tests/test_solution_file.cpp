@@ -20,10 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 hr::Solution smallSolution() {
-  hr::SolverOptions o;
-  o.eps = 1e-2;
-  o.maxLevel = 2;
-  auto s = testutil::solveText(hr::kDefaultSceneJson, o);
+  auto s = testutil::solveText(hr::kDefaultSceneJson, testutil::options(1e-2, 2));
   return hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
 }
 
