@@ -30,7 +30,7 @@ for t in "${targets[@]}"; do
   log="$work/$t.log"
   # Inputs run from a scratch folder: a fuzzed scene may name relative files, which must not exist.
   set +e
-  (cd "$work" && "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  (cd "$work" && "$build/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=16384 \
      -print_final_stats=1 -artifact_prefix="$findings/$t-" "$corpus") >"$log" 2>&1
   rc=$?
   set -e
