@@ -2,10 +2,13 @@
 // solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
 // `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp);
 // `reference` path-traces reference images and `compare` measures one image against another.
-// Input is validated completely before the output folder is touched.
+// Input is validated completely before the output folder is touched; every flag against the limits
+// table the scene readers use (flag_checks.h); a command-line error exits 2 like any bad input.
 #include <CLI/CLI.hpp>
 #include <hr/camera.h>
+#include <hr/echo.h>
 #include <hr/output.h>
+#include <hr/output_set.h>
 #include <hr/solution_view.h>
 #include <hr/solver.h>
 #include <tbb/global_control.h>
@@ -15,6 +18,7 @@
 #include <thread>
 
 #include "extension_cli.h"
+#include "flag_checks.h"
 #include "info_command.h"
 #include "inspect_command.h"
 #include "lobe_command.h"
@@ -27,28 +31,31 @@ namespace {
 
 struct SolveArgs {
   std::string scene, out = "out", algorithm = "diffuse";
-  double eps = -1, tolerance = -1;
-  int maxLevel = -1, rays = -1, threads = 0, maxIterations = -1;
-  long long seed = -1;
+  std::optional<double> eps, tolerance;
+  std::optional<int> maxLevel, rays, threads, maxIterations;
+  std::optional<long long> seed;
   bool quiet = false;
   ExtensionOptions extension;
 };
 
-void writeImages(const hr::Solution& sol, const hr::Extension* ext, const std::string& dir, bool quiet,
-                 std::vector<std::string>& written) {
+void writeImages(const hr::Solution& sol, const hr::Extension* ext, hr::OutputSet& out, bool quiet) {
   for (const hr::Camera& cam : sol.cameras) {
     hr::Image img = hr::render(sol, cam, ext);
-    std::string exr = (fs::path(dir) / (cam.name + ".exr")).string();
-    std::string png = (fs::path(dir) / (cam.name + ".png")).string();
-    hr::writeExr(img, exr);
-    hr::writePng(img, png);
-    written.push_back(exr);
-    written.push_back(png);
+    hr::writeExr(img, out.path(cam.name + ".exr"));
+    hr::writePng(img, out.path(cam.name + ".png"));
     if (!quiet) std::fprintf(stderr, "rendered camera \"%s\" (%dx%d)\n", cam.name.c_str(), cam.width, cam.height);
   }
 }
 
 int runSolve(const SolveArgs& a) {
+  namespace L = hr::limits;
+  checkFlag("--eps", a.eps, L::kEps);
+  checkFlag("--max-level", a.maxLevel, L::kMaxLevel);
+  checkFlag("--rays-per-link", a.rays, L::kRaysPerLink);
+  checkFlag("--max-iterations", a.maxIterations, L::kMaxIterations);
+  checkFlag("--tolerance", a.tolerance, L::kTolerance);
+  checkFlag("--threads", a.threads, L::kThreads);
+  checkFlag("--seed", a.seed, L::kSeed);
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
@@ -56,13 +63,13 @@ int runSolve(const SolveArgs& a) {
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
   std::unique_ptr<hr::Extension> ext = a.extension.make(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
-  if (a.eps > 0) opt.eps = a.eps;
-  if (a.maxLevel >= 0) opt.maxLevel = a.maxLevel;
-  if (a.rays > 0) opt.raysPerLink = a.rays;
-  if (a.maxIterations > 0) opt.maxIterations = a.maxIterations;
-  if (a.tolerance > 0) opt.tolerance = a.tolerance;
-  if (a.seed >= 0) opt.seed = static_cast<std::uint64_t>(a.seed);
-  int threads = a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (a.eps) opt.eps = *a.eps;
+  if (a.maxLevel) opt.maxLevel = *a.maxLevel;
+  if (a.rays) opt.raysPerLink = *a.rays;
+  if (a.maxIterations) opt.maxIterations = *a.maxIterations;
+  if (a.tolerance) opt.tolerance = *a.tolerance;
+  if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
+  int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
   progress.phase("tessellating");
@@ -87,6 +94,11 @@ int runSolve(const SolveArgs& a) {
     }
   }
   if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(hier.bounds()));
+  // The output folder is checked (and stale staging from a killed run settled) before solving.
+  std::vector<std::string> names = {"solution.ghrs", "solution.vtp"};
+  for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png"});
+  names.push_back("stats.json");
+  hr::OutputSet out(a.out, names);
   progress.phase("building visibility");
   hr::Visibility vis(hier.patches());
   hr::Solver solver(scene, hier, vis, opt, ext.get(), &progress);
@@ -98,8 +110,6 @@ int runSolve(const SolveArgs& a) {
   if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
-  fs::create_directories(a.out);
-  std::vector<std::string> written;
   hr::RunInfo run;
   run.scene = a.scene.empty() ? "built-in:cornell_box" : a.scene;
   run.algorithm = a.algorithm;
@@ -110,16 +120,11 @@ int runSolve(const SolveArgs& a) {
   run.seed = opt.seed;
   if (ext)
     for (const auto& e : ext->stats()) run.extension.emplace_back(e.name, e.value);
-  std::string ghrs = (fs::path(a.out) / "solution.ghrs").string();
-  std::string vtp = (fs::path(a.out) / "solution.vtp").string();
-  hr::saveSolution(sol, ghrs);
-  hr::writeVtp(sol, vtp, ext.get());
-  written.push_back(ghrs);
-  written.push_back(vtp);
-  writeImages(sol, ext.get(), a.out, a.quiet, written);
-  std::string stats = (fs::path(a.out) / "stats.json").string();
-  hr::writeFileAtomically(stats, hr::statsJson(run, st, hr::peakRssBytes()));
-  written.push_back(stats);
+  hr::saveSolution(sol, out.path("solution.ghrs"));
+  hr::writeVtp(sol, out.path("solution.vtp"), ext.get());
+  writeImages(sol, ext.get(), out, a.quiet);
+  hr::writeFileAtomically(out.path("stats.json"), hr::statsJson(run, st, hr::peakRssBytes()));
+  out.commit();
 
   if (!a.quiet) {
     hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
@@ -133,7 +138,7 @@ int runSolve(const SolveArgs& a) {
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
   }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
-  for (const auto& w : written) std::printf("  %s\n", w.c_str());
+  for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
   return st.converged ? 0 : 3;
 }
 
@@ -174,21 +179,25 @@ hr::Camera chooseCamera(const RenderArgs& a, const hr::Solution& sol) {
   for (const auto& c : sol.cameras) names += (names.empty() ? "" : ", ") + c.name;
   for (const auto& c : sol.cameras)
     if (a.camera.empty() || c.name == a.camera) return c;
-  throw hr::InputError("--camera: no camera \"" + a.camera + "\" in " + a.solution + " (cameras: " + names + ")");
+  throw hr::InputError("--camera: no camera " + hr::echo(a.camera) + " in " + a.solution + " (cameras: " +
+                       hr::clipMessage(names, 400) + ")");
 }
 
 int runRender(const RenderArgs& a) {
-  std::string kind = fs::path(a.image).extension().string();
+  fs::path target(a.image);
+  std::string kind = target.extension().string();
   if (kind != ".exr" && kind != ".png") throw hr::InputError("-o: image must end in .exr or .png");
   hr::Solution sol = hr::loadSolution(a.solution);
   hr::Camera cam = chooseCamera(a, sol);
   hr::SolutionView view(sol);
   std::unique_ptr<hr::Extension> ext = loadExtension(sol, view, a.solution);
+  hr::OutputSet out(target.parent_path().string(), {target.filename().string()});
   hr::Image img = hr::render(sol, cam, ext.get());
   if (kind == ".exr")
-    hr::writeExr(img, a.image);
+    hr::writeExr(img, out.path(target.filename().string()));
   else
-    hr::writePng(img, a.image);
+    hr::writePng(img, out.path(target.filename().string()));
+  out.commit();
   if (!a.quiet) std::fprintf(stderr, "rendered camera \"%s\" to %s\n", cam.name.c_str(), a.image.c_str());
   return 0;
 }
@@ -204,7 +213,7 @@ int main(int argc, char** argv) {
   solve->add_option("-o,--output", sa.out, "output folder")->capture_default_str();
   solve->add_option("--eps", sa.eps, "relative refinement threshold (link error / emitted power)");
   solve->add_option("--max-level", sa.maxLevel, "maximum quadtree depth below a root patch");
-  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link")->check(CLI::Range(1, 256));
+  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link");
   solve->add_option("--max-iterations", sa.maxIterations, "maximum gathering iterations");
   solve->add_option("--tolerance", sa.tolerance, "stop when the power change is below this fraction of emitted");
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
@@ -272,7 +281,12 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
   info->add_option("scene", infoScene, "scene file (.json or .mgf)")->required();
   info->add_flag("--json", infoJson, "print the report as JSON");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 exits 104-114 for its errors; a bad command line is bad input like any other: 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     if (*solve) return runSolve(sa);
     if (*render) return runRender(ra0);
@@ -282,10 +296,10 @@ int main(int argc, char** argv) {
     if (*compare) return runCompare(ca);
     if (*info) return runInfo(infoScene, infoJson);
   } catch (const hr::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "internal error: %s\n", hr::clipMessage(e.what()).c_str());
     return 1;
   }
   return 0;

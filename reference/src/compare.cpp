@@ -1,4 +1,6 @@
-// Comparison metrics and the false-colour difference image.
+// Comparison metrics and the false-colour difference image. Images that cannot be measured (a
+// non-finite or negative pixel, a reference without light) are refused: relative errors against them
+// would print as 0 or -inf and look like an answer.
 #include <ref/compare.h>
 
 #include <algorithm>
@@ -23,6 +25,16 @@ void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::str
                          " is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ": images must have the same size");
   if (mask >= 0 && a.objectId.size() != std::size_t(a.width) * a.height)
     throw hr::InputError("--mask: " + nameA + " has no object_id channel");
+  for (const auto* img : {&a, &b}) {
+    const std::string& name = img == &a ? nameA : nameB;
+    for (std::size_t i = 0; i < img->rgb.size(); ++i)
+      if (!std::isfinite(img->rgb[i]) || img->rgb[i] < 0.0f) {
+        std::size_t p = i / 3;
+        throw hr::InputError(name + ": pixel (" + std::to_string(p % std::size_t(img->width)) + ", " +
+                             std::to_string(p / std::size_t(img->width)) + ") holds " + std::to_string(img->rgb[i]) +
+                             ": radiance must be finite and >= 0 to be compared");
+      }
+  }
 }
 
 }  // namespace
@@ -43,6 +55,9 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   }
   if (m.pixels == 0) throw hr::InputError("--mask: no pixel of object " + std::to_string(mask) + " in " + nameA);
   m.meanA /= double(m.pixels), m.meanB /= double(m.pixels);
+  if (!(m.meanB > 0.0))
+    throw hr::InputError(nameB + ": the reference is black" + std::string(mask >= 0 ? " over the masked pixels" : "") +
+                         ": errors relative to it are undefined");
   m.meanAbsError = sae / double(m.pixels);
   m.relRmse = m.meanB > 0.0 ? std::sqrt(se / double(m.pixels)) / m.meanB : 0.0;
   m.meanRatio = m.meanB > 0.0 ? m.meanA / m.meanB : 0.0;

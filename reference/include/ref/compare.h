@@ -18,8 +18,9 @@ struct Metrics {
   double meanA = 0.0, meanB = 0.0;
 };
 
-/// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, or no
-/// pixel is left to compare. mask < 0: all pixels.
+/// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, no
+/// pixel is left to compare, a pixel is not finite or negative, or the reference is black (mean 0).
+/// mask < 0: all pixels.
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
                 const std::string& nameB = "B");
 
