@@ -52,6 +52,8 @@ double extensionBound(const SolverState& s, const Link& l, bool wholeSphere) {
 /// of the cone's bound and the values toward the receiver's centre and corners to the smallest of
 /// those values.
 double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere) {
+  // The cheap pass: the whole sphere's peak bounds any variation (no direction is looked at).
+  if (wholeSphere) return extensionBound(s, l, true);
   const Vec3 from = s.h.center(l.sender);
   auto toward = [&](const Vec3& p) {
     Vec3 d = p - from;
@@ -70,8 +72,7 @@ double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere)
     const Element& r = s.h.element(l.receiver.index());
     for (int k = 0; k < r.poly.n; ++k) visit(r.poly.v[k]);
   }
-  double bound = wholeSphere ? hi : std::max(hi, extensionBoundRaw(s, l));
-  return senderUnit(s, l, bound) - senderUnit(s, l, lo);
+  return senderUnit(s, l, std::max(hi, extensionBoundRaw(s, l))) - senderUnit(s, l, lo);
 }
 
 /// The sender's value toward the receiver, or a cluster's peak intensity if that is more, plus the
