@@ -11,7 +11,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "still.h"
 #include "viewer_style.h"
+#include "walkthrough.h"
 #include "window.h"
 
 namespace fs = std::filesystem;
@@ -73,8 +75,15 @@ Viewer::Viewer(SceneView& scene, ViewerOptions opt) : scene_(scene), opt_(std::m
   help_ = text(8, opt_.height - 8, true);
   help_->SetInput(kHelp);
   help_->SetVisibility(0);
-  scene_.renderer()->AddActor2D(hud_);
-  scene_.renderer()->AddActor2D(help_);
+  // The HUD lives in a layer of this window only: the scene's renderer, which walkthroughs also draw,
+  // holds nothing but the scene.
+  overlay_ = vtkSmartPointer<vtkRenderer>::New();
+  overlay_->SetLayer(1);
+  overlay_->InteractiveOff();
+  overlay_->AddActor2D(hud_);
+  overlay_->AddActor2D(help_);
+  win_->SetNumberOfLayers(2);
+  win_->AddRenderer(overlay_);
   cameraIndex_ = opt_.startCamera;
   if (!opt_.cameras.empty()) {
     scene_.setCamera(opt_.cameras[std::size_t(cameraIndex_)]);
@@ -88,8 +97,7 @@ Viewer::Viewer(SceneView& scene, ViewerOptions opt) : scene_(scene), opt_(std::m
 
 Viewer::~Viewer() {
   win_->RemoveAllObservers();
-  scene_.renderer()->RemoveActor2D(hud_);
-  scene_.renderer()->RemoveActor2D(help_);
+  win_->RemoveRenderer(overlay_);
   if (glyph_) scene_.renderer()->RemoveActor(glyph_);
   win_->RemoveRenderer(scene_.renderer());
   win_->Finalize();
@@ -232,13 +240,13 @@ void Viewer::toggleRecording() {
 }
 
 void Viewer::screenshot() {
-  // The still without HUD and help, as `glossyhr render` would draw it.
-  int hudOn = hud_->GetVisibility(), helpOn = help_->GetVisibility();
-  hud_->SetVisibility(0), help_->SetVisibility(0);
-  render();
-  std::vector<unsigned char> rgb = grabFrame(win_);
-  hud_->SetVisibility(hudOn), help_->SetVisibility(helpOn);
+  // A still without HUD and help, as `glossyhr render` would draw it: the scene's renderer visits an
+  // offscreen window of three times the size for it.
   const int* size = win_->GetSize();
+  const int w = size[0], h = size[1];
+  win_->RemoveRenderer(scene_.renderer());
+  std::vector<unsigned char> rgb = renderStill(scene_.renderer(), w, h, kStillSamples, scene_.exposure());
+  win_->AddRenderer(scene_.renderer());
   fs::path file;
   for (int i = 0;; ++i) {
     char name[64];
@@ -246,7 +254,7 @@ void Viewer::screenshot() {
     file = fs::path(opt_.screenshotDir) / name;
     if (!fs::exists(file)) break;
   }
-  hr::writePng8(rgb, size[0], size[1], file.string());
+  hr::writePng8(rgb, w, h, file.string());
   lastShot_ = file.string();
   std::printf("screenshot written to %s\n", lastShot_.c_str());
   render();

@@ -71,6 +71,7 @@ class Viewer {
   ViewerOptions opt_;
   vtkSmartPointer<vtkRenderWindow> win_;
   vtkSmartPointer<vtkRenderWindowInteractor> iren_;
+  vtkSmartPointer<vtkRenderer> overlay_;  // HUD and help, a layer above the scene's renderer
   vtkSmartPointer<vtkTextActor> hud_, help_;
   vtkSmartPointer<vtkActor> glyph_;
   bool walk_ = false, recording_ = false;

@@ -1,7 +1,7 @@
 // Picking (p): the surface point under the mouse, found by VTK's cell picker on the two lists (never
 // on the glyph), its leaf reported as `glossyhr inspect` reports it (plus the radiance toward the
 // eye there), and the leaf's exitant-intensity lobe drawn as a glyph rooted at the picked point,
-// scaled so that its longest radius is a tenth of the scene's, coloured by its own RGB.
+// scaled so that its longest radius is a quarter of the scene's, coloured by its own RGB.
 #include <vtkCellPicker.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
@@ -50,6 +50,7 @@ vtkSmartPointer<vtkActor> lobeGlyph(const std::vector<LobeArray>& lobe, const hr
   const double scale = longest > 0.0 ? size / longest : 1.0;
   actor->SetScale(scale, scale, scale);
   actor->PickableOff();
+  actor->GetProperty()->SetAmbient(0.5);  // a needle-thin glossy lobe stays visible against the light
   return actor;
 }
 
@@ -86,7 +87,7 @@ void Viewer::pick(int x, int y) {
                 at.x, at.y, at.z, diffuse.x + glossy.x, diffuse.y + glossy.y, diffuse.z + glossy.z, glossy.x, glossy.y, glossy.z);
   pickReport_ = r.text + b;
   std::printf("%s", pickReport_.c_str());
-  glyph_ = lobeGlyph(elementLobe(s, scene_.extension(), picked_), at, 0.1 * scene_.sceneRadius());
+  glyph_ = lobeGlyph(elementLobe(s, scene_.extension(), picked_), at, 0.25 * scene_.sceneRadius());
   scene_.renderer()->AddActor(glyph_);
 }
 

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "still.h"
 #include "window.h"
 
 namespace fs = std::filesystem;
@@ -44,7 +45,7 @@ void encodeVideo(const std::string& ffmpeg, const std::string& framesDir, double
     // yuv420p and even sizes: the H.264 stream every player opens.
     cmd << shellQuote(ffmpeg) << " -y -loglevel error -framerate " << fps << " -i "
         << shellQuote((fs::path(framesDir) / "frame_%05d.png").string())
-        << " -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -c:v libx264 -pix_fmt yuv420p -f mp4 " << shellQuote(tmp);
+        << " -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p -f mp4 " << shellQuote(tmp);
     if (quiet) cmd << " 2>/dev/null";
     int rc = std::system(cmd.str().c_str());
     if (rc != 0) throw std::runtime_error("ffmpeg failed (status " + std::to_string(rc) + ") encoding " + video);
@@ -119,7 +120,11 @@ std::vector<FrameTiming> runWalkthrough(SceneView& scene, const CameraPath& path
   } scratchGuard{scratch};
 
   requireDisplay();
-  auto win = makeWindow(width, height, true);
+  // Timed frames are drawn as the window draws them (multisampled, width x height); other frames are
+  // stills of 3 x 3 samples per pixel averaged in radiance, as `glossyhr render` draws them.
+  const int k = opt.benchmark ? 1 : kStillSamples;
+  auto win = makeWindow(width * k, height * k, true);
+  if (k > 1) win->SetMultiSamples(0);
   win->AddRenderer(scene.renderer());
   std::vector<FrameTiming> timings;
   for (int i = 0; i < n; ++i) {
@@ -132,7 +137,9 @@ std::vector<FrameTiming> runWalkthrough(SceneView& scene, const CameraPath& path
     timings.push_back({total, st.glossyMs, st.verticesUpdated});
     if (keepFrames || !scratch.empty()) {
       std::string file = keepFrames ? frames->path(frameName(i)) : (scratch / frameName(i)).string();
-      hr::writePng8(grabFrame(win), width, height, file);
+      std::vector<unsigned char> rgb = grabFrame(win);
+      if (k > 1) rgb = downsampleStill(rgb, width, height, k, scene.exposure());
+      hr::writePng8(rgb, width, height, file);
     }
     if (!opt.quiet && (i + 1) % 50 == 0) std::fprintf(stderr, "frame %d of %d\n", i + 1, n);
   }

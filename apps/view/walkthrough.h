@@ -1,5 +1,6 @@
 // Headless replay of a camera path: every frame rendered off screen at the path's times, written as
-// numbered PNGs through an output set (all frames appear together or none, and a frames folder this
+// numbered PNGs (stills, as `glossyhr render` draws them; with --benchmark the timed frames as the
+// window draws them) through an output set (all frames appear together or none, and a frames folder this
 // run created is removed again when it fails), optionally encoded to a video with ffmpeg, optionally
 // timed per frame (the CSV and summary of --benchmark).
 #pragma once
@@ -10,6 +11,9 @@
 #include "scene_view.h"
 
 namespace view {
+
+/// Samples per pixel and axis of a still (hr::render's grid).
+inline constexpr int kStillSamples = 3;
 
 struct WalkthroughOptions {
   std::string framesDir;  // PNGs (and timings with benchmark); empty: frames are rendered, not kept
