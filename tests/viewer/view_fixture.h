@@ -140,9 +140,10 @@ std::array<unsigned char, 3> stillPixel(const SampleTruth& t, int x, int y, doub
   return {hr::toneMap8(sum.x, exposure), hr::toneMap8(sum.y, exposure), hr::toneMap8(sum.z, exposure)};
 }
 
-/// Runs the glossyhr binary (stderr folded in); returns its exit code (-1 when it did not exit).
+/// Runs the glossyhr binary (stderr folded in); returns its exit code (-1 when it did not exit). A
+/// command that wrongly opens the interactive window is stopped after 120 s (exit 124), not waited for.
 inline int runCli(const std::string& args, std::string& output, const std::string& env = "") {
-  std::string cmd = env + (env.empty() ? "" : " ") + std::string(GHR_BINARY) + " " + args + " 2>&1";
+  std::string cmd = env + (env.empty() ? "" : " ") + "/usr/bin/timeout 120 " + std::string(GHR_BINARY) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return -1;
   output.clear();
