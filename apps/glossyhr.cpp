@@ -1,7 +1,8 @@
 // glossyhr: the command line. `solve` runs the radiosity solver on a scene and writes stats.json,
 // solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
 // `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp);
-// `reference` path-traces reference images and `compare` measures one image against another.
+// `reference` path-traces reference images and `compare` measures one image against another; `view`
+// shows a saved solution in a window or replays a camera path (apps/view_command.cpp).
 // Input is validated completely before the output folder is touched; every flag against the limits
 // table the scene readers use (flag_checks.h); a command-line error exits 2 like any bad input.
 #include <CLI/CLI.hpp>
@@ -23,6 +24,7 @@
 #include "inspect_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
+#include "view_command.h"
 #include "registry.h"
 
 namespace fs = std::filesystem;
@@ -278,6 +280,9 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
+  ViewArgs va;
+  auto* viewCmd = app.add_subcommand("view", "a saved solution in an interactive window, or a camera path replayed headless");
+  addViewOptions(viewCmd, va);
   std::string infoScene;
   bool infoJson = false;
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
@@ -297,6 +302,7 @@ int main(int argc, char** argv) {
     if (*reference) return runReference(ra);
     if (*compare) return runCompare(ca);
     if (*info) return runInfo(infoScene, infoJson);
+    if (*viewCmd) return runView(va);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;

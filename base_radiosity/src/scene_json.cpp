@@ -17,7 +17,7 @@
 #include <set>
 #include <sstream>
 
-#include "json_strict.h"
+#include <hr/json_strict.h>
 
 namespace hr {
 namespace {
