@@ -24,6 +24,7 @@
 #include "inspect_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
+#include "study_command.h"
 #include "view_command.h"
 #include "registry.h"
 
@@ -276,13 +277,25 @@ int main(int argc, char** argv) {
   compare->add_option("a", ca.a, "candidate image (.exr)")->required();
   compare->add_option("b", ca.b, "reference image (.exr)")->required();
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
-  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids, e.g. the lights (ID,ID,...)")
+  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids and their bordering pixels, e.g. the lights (ID,ID,...)")
       ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
   ViewArgs va;
   auto* viewCmd = app.add_subcommand("view", "a saved solution in an interactive window, or a camera path replayed headless");
   addViewOptions(viewCmd, va);
+  StudyArgs sta;
+  auto* studyCmd = app.add_subcommand("study", "what accuracy costs: a grid of solves against a reference and the path tracer");
+  studyCmd->add_option("scene", sta.scene, "scene file (.json or .mgf)")->required();
+  studyCmd->add_option("-o,--output", sta.out, "output folder (study.csv, study.json, plots)")->capture_default_str();
+  studyCmd->add_option("--grid", sta.grid, std::string("configurations, KEY=V,V;KEY=V,... (default \"") + kDefaultStudyGrid + "\")");
+  studyCmd->add_option("--reference-spp", sta.referenceSpp, "samples per pixel of the cached reference (default 1024)");
+  studyCmd->add_option("--reference", sta.reference, "instead: this EXR is the reference (one-camera scenes)");
+  studyCmd->add_option("--views", sta.views, "walkthrough length for the economics columns (default 10)");
+  studyCmd->add_option("--cache", sta.cache, "where references are cached (default ~/.cache/glossyhr)");
+  studyCmd->add_option("--threads", sta.threads, "worker threads of each run (default: all cores)");
+  studyCmd->add_flag("--no-plots", sta.noPlots, "write the CSV and JSON only");
+  studyCmd->add_flag("--quiet", sta.quiet, "no progress on stderr");
   std::string infoScene;
   bool infoJson = false;
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
@@ -303,6 +316,7 @@ int main(int argc, char** argv) {
     if (*compare) return runCompare(ca);
     if (*info) return runInfo(infoScene, infoJson);
     if (*viewCmd) return runView(va);
+    if (*studyCmd) return runStudy(sta);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;

@@ -327,4 +327,13 @@ glm::dmat4 Transform::matrix() const {
   return m;
 }
 
+std::vector<std::uint32_t> emitterObjects(const Scene& scene) {
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const std::string& m = scene.objects[i].material;
+    if (!m.empty() && scene.materials[scene.materialIndex.at(m)].emitter()) ids.push_back(i);
+  }
+  return ids;
+}
+
 }  // namespace hr
