@@ -25,6 +25,7 @@
 #include "lobe_command.h"
 #include "reference_command.h"
 #include "study_command.h"
+#include "ab_command.h"
 #include "view_command.h"
 #include "registry.h"
 
@@ -37,7 +38,7 @@ struct SolveArgs {
   std::optional<double> eps, tolerance;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
-  bool quiet = false;
+  bool quiet = false, lambertian = false;
   ExtensionOptions extension;
 };
 
@@ -64,6 +65,14 @@ int runSolve(const SolveArgs& a) {
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
+  if (a.lambertian) {
+    // rho_d + rho_s is the modified Phong albedo at normal incidence: the Lambertian stand-in
+    // reflects as much light, so an A/B pair of runs holds the same energy.
+    std::size_t n = 0;
+    for (hr::Material& m : scene.materials)
+      if (m.glossy()) m.diffuse += m.specular, m.specular = hr::Rgb(0.0), ++n;
+    if (!a.quiet) std::fprintf(stderr, "note: --lambertian: %zu glossy material(s) made Lambertian (rho_d + rho_s)\n", n);
+  }
   std::unique_ptr<hr::Extension> ext = a.extension.make(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
   if (a.eps) opt.eps = *a.eps;
@@ -222,6 +231,8 @@ int main(int argc, char** argv) {
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
   solve->add_option("--seed", sa.seed, "random seed for shadow-ray sampling");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
+  solve->add_flag("--lambertian", sa.lambertian,
+                  "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;
@@ -296,6 +307,14 @@ int main(int argc, char** argv) {
   studyCmd->add_option("--threads", sta.threads, "worker threads of each run (default: all cores)");
   studyCmd->add_flag("--no-plots", sta.noPlots, "write the CSV and JSON only");
   studyCmd->add_flag("--quiet", sta.quiet, "no progress on stderr");
+  AbArgs aba;
+  auto* abCmd = app.add_subcommand("ab", "a scene solved diffuse-only (glossy made Lambertian) and glossy, side by side");
+  abCmd->add_option("scene", aba.scene, "scene file (.json or .mgf) with glossy materials")->required();
+  abCmd->add_option("-o,--output", aba.out, "output folder")->capture_default_str();
+  abCmd->add_option("--algorithm", aba.algorithm, "the glossy run's extension")->capture_default_str();
+  abCmd->add_option("--eps", aba.eps, "relative refinement threshold of both runs");
+  abCmd->add_option("--threads", aba.threads, "worker threads of each run (default: all cores)");
+  abCmd->add_flag("--quiet", aba.quiet, "no progress on stderr");
   std::string infoScene;
   bool infoJson = false;
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
@@ -317,6 +336,7 @@ int main(int argc, char** argv) {
     if (*info) return runInfo(infoScene, infoJson);
     if (*viewCmd) return runView(va);
     if (*studyCmd) return runStudy(sta);
+    if (*abCmd) return runAb(aba);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;
