@@ -274,6 +274,8 @@ int main(int argc, char** argv) {
   compare->add_option("a", ca.a, "candidate image (.exr)")->required();
   compare->add_option("b", ca.b, "reference image (.exr)")->required();
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
+  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids, e.g. the lights (ID,ID,...)")
+      ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
   std::string infoScene;

@@ -99,9 +99,14 @@ int runCompare(const CompareArgs& a) {
   if (!a.out.empty() && fs::path(a.out).extension() != ".png") throw hr::InputError("-o: the difference image must end in .png");
   checkFlag("--mask", a.mask, hr::limits::kObjectId);
   const long mask = a.mask ? static_cast<long>(*a.mask) : -1;
+  std::vector<std::uint32_t> exclude;
+  for (long long id : a.exclude) {
+    checkFlag("--exclude", std::optional<long long>(id), hr::limits::kObjectId);
+    exclude.push_back(static_cast<std::uint32_t>(id));
+  }
   hr::Image A = hr::readExr(a.a), B = hr::readExr(a.b);
-  ref::Metrics m = ref::compare(A, B, mask, a.a, a.b);
-  if (!a.out.empty()) ref::writeDifferencePng(A, B, a.out, mask);
+  ref::Metrics m = ref::compare(A, B, mask, a.a, a.b, exclude);
+  if (!a.out.empty()) ref::writeDifferencePng(A, B, a.out, mask, 0.25, exclude);
   if (a.json) {
     nlohmann::json j = {{"a", a.a},
                         {"b", a.b},
@@ -115,6 +120,7 @@ int runCompare(const CompareArgs& a) {
                         {"mean_b", m.meanB},
                         {"units", "luminance of radiance, W/(m^2 sr); relative errors against B's mean"}};
     if (a.mask) j["mask_object_id"] = *a.mask;
+    if (!a.exclude.empty()) j["excluded_object_ids"] = a.exclude;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("A = %s, B = %s (reference)%s\n", a.a.c_str(), a.b.c_str(),
