@@ -64,6 +64,7 @@ class Recorder final : public hr::Extension {
   }
   void split(NodeId p, std::span<const NodeId> c) override { inner.split(p, c); }
   Rgb intensity(NodeId n, const Vec3& d) const override { return inner.intensity(n, d); }
+  Rgb meanIntensity(NodeId n, std::span<const Vec3> p) const override { return inner.meanIntensity(n, p); }
   Rgb intensityBound(NodeId n, const Vec3& a, double c) const override { return inner.intensityBound(n, a, c); }
   void gather(NodeId r, std::span<const hr::IncidentSample> s) override { inner.gather(r, s); }
   void reflect(NodeId leaf, std::span<const hr::IncidentSample> s) override {
@@ -81,6 +82,7 @@ class Recorder final : public hr::Extension {
   Rgb reflectedPower(NodeId l) const override { return inner.reflectedPower(l); }
   Rgb sampleExitant(NodeId l, double u1, double u2, Vec3& d) const override { return inner.sampleExitant(l, u1, u2, d); }
   Rgb radiance(NodeId l, const Vec3& e) const override { return inner.radiance(l, e); }
+  std::size_t coefficients(NodeId l) const override { return inner.coefficients(l); }
   std::vector<hr::StatEntry> stats() const override { return inner.stats(); }
 };
 

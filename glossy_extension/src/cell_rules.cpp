@@ -106,6 +106,16 @@ const std::vector<CellCap>& UpperCells::caps(int level) {
   return *tables[level];
 }
 
+const CellCap* UpperCells::capsOf(int level) {
+  static const auto tables = [] {
+    std::array<const CellCap*, kTableLevel + 1> t{};
+    for (int l = 0; l <= kTableLevel; ++l) t[std::size_t(l)] = caps(l).data();
+    return t;
+  }();
+  assert(level >= 0 && level <= kTableLevel);
+  return tables[std::size_t(level)];
+}
+
 const std::vector<double>& UpperCells::points(int level, CellRule which) {
   assert(level >= 0 && level < kLevels);
   static std::once_flag once[2][kLevels];

@@ -60,6 +60,29 @@ class UpperCells {
   static const std::vector<double>& points(int level, CellRule rule);
   /// The cell of a level with this index (any level).
   static FaceTri cell(int level, std::uint64_t index);
+  /// caps(level).data() for every level up to kTableLevel, fetched once: for descents that visit
+  /// many cells per call (all levels are built on first use, a few ms).
+  static const CellCap* capsOf(int level);
+};
+
+/// The hull cap and solid angle of a cell reached by descent from octaRoot(face) (t its planar
+/// corners, index its number as above when the face is an upper one): from the tables where they
+/// hold it, otherwise computed (Cap::around, solidAngle); the same values either way.
+struct CellGeometry {
+  Cap cap;
+  double omega = -1.0;  // < 0: not tabulated, t.solidAngle() when needed
+  CellGeometry(const FaceTri& t, int face, int level, std::uint64_t index) {
+    if (face < 4 && level <= UpperCells::kTableLevel) {
+      const CellCap& c = UpperCells::capsOf(level)[index];
+      cap.centre = Vec3(c.cx, c.cy, c.cz);
+      cap.cosR = c.cosR;
+      cap.sinR = c.sinR;
+      omega = c.omega;
+    } else {
+      cap = Cap::around(t);
+    }
+  }
+  double solidAngle(const FaceTri& t) const { return omega >= 0.0 ? omega : t.solidAngle(); }
 };
 
 }  // namespace glossy
