@@ -36,10 +36,11 @@ struct PolygonRegion {
     cap.sinR = std::sqrt(std::max(0.0, 1.0 - cap.cosR * cap.cosR));
     area = poly.area();
   }
-  bool inside(const Vec3& d) const {
-    for (int i = 0; i < poly.n; ++i)
-      if (glm::dot(inward[i], d) < 0.0) return false;
-    return true;
+  /// The planes (bit i: edge i) with d on their inner side.
+  unsigned insideOf(const Vec3& d) const {
+    unsigned bits = 0;
+    for (int i = 0; i < poly.n; ++i) bits |= glm::dot(inward[i], d) >= 0.0 ? 1u << i : 0u;
+    return bits;
   }
 };
 
@@ -71,7 +72,8 @@ Rgb haarIntegral(const HaarDistribution& h, std::uint32_t i, const FaceTri& t, i
   const CellGeometry g(t, face, level, index);
   if (!g.cap.overlaps(r.cap)) return Rgb(0.0);
   const Rgb value(node.rgb[0], node.rgb[1], node.rgb[2]);
-  if (r.inside(t.p[0]) && r.inside(t.p[1]) && r.inside(t.p[2])) return value * g.solidAngle(t);
+  const unsigned all = (1u << r.poly.n) - 1u, in = r.insideOf(t.p[0]) & r.insideOf(t.p[1]) & r.insideOf(t.p[2]);
+  if (in == all) return value * g.solidAngle(t);
   Vec3 m[3];
   insideNormals(t.p[0], t.p[1], t.p[2], m);
   const Side side = sideOf(r, m);
@@ -79,8 +81,10 @@ Rgb haarIntegral(const HaarDistribution& h, std::uint32_t i, const FaceTri& t, i
   if (node.child == 0) {
     // A region within the leaf cell is all of it; otherwise the cell clipped to the region.
     if (side == Side::Within) return value * r.area;
+    // Planes with the whole cell inside leave it as it is: only the others clip.
     SphericalPolygon piece = SphericalPolygon::triangle(t.dir(0), t.dir(1), t.dir(2));
-    for (int k = 0; k < r.poly.n; ++k) piece.clip(r.inward[k]);
+    for (int k = 0; k < r.poly.n; ++k)
+      if (!(in >> k & 1u)) piece.clip(r.inward[k]);
     return piece.n >= 3 ? value * piece.area() : Rgb(0.0);
   }
   Rgb sum(0.0);
