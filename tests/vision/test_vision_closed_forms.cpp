@@ -72,3 +72,17 @@ TEST(SphereFormFactor, SmallPatchFacingASphere) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SquaresFormFactor, PerpendicularSharingAnEdge) {
+  // The closed form (Hottel) F = 0.200044; the receiver is lit by one bounce: B = rho pi F.
+  auto s = visiontest::solveText("{ " + visiontest::greyMaterials(0.0, kRhoR) + R"(, "objects": [
+    { "type": "quad", "material": "e", "vertices": [[0,0,0],[0,1,0],[0,1,1],[0,0,1]] },
+    { "type": "quad", "material": "r", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] } ] })",
+                                 oneBounce());
+  EXPECT_NEAR(s.meanRadiosity(1).y / (kRhoR * hr::kPi * 0.200044), 1.0, 0.01);
+  std::printf("perpendicular squares: B / closed form %.5f\n", s.meanRadiosity(1).y / (kRhoR * hr::kPi * 0.200044));
+}
+
+}  // namespace
