@@ -6,8 +6,20 @@
 #include <hr/visibility.h>
 
 #include <cstdio>
+#include <memory>
 
 #include "host_front.h"
+
+namespace {
+
+/// What the extension's views point into, alive as long as the result is.
+struct BrightRun {
+  std::unique_ptr<hr::Hierarchy> hier;
+  std::unique_ptr<hr::Visibility> vis;
+  std::unique_ptr<hr::Solver> solver;
+};
+
+}  // namespace
 
 HostResult solveBright(HostJob& job) {
   job.progress.phase("tessellating");
@@ -15,16 +27,18 @@ HostResult solveBright(HostJob& job) {
   std::vector<hr::Patch> patches = hr::buildPatches(job.scene, rep);
   if (rep.droppedZeroArea) std::fprintf(stderr, "warning: dropped %zu zero-area face(s)\n", rep.droppedZeroArea);
   if (rep.splitNonPlanar) std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.splitNonPlanar);
-  hr::Hierarchy hier(std::move(patches));
+  auto run = std::make_shared<BrightRun>();
+  run->hier = std::make_unique<hr::Hierarchy>(std::move(patches));
   dropUnneededExtension(job);  // after tessellation: mesh files add their materials
-  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(hier.bounds()));
+  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(run->hier->bounds()));
   job.ready();
   job.progress.phase("building visibility");
-  hr::Visibility vis(hier.patches());
-  hr::Solver solver(job.scene, hier, vis, job.opt, job.ext.get(), &job.progress);
+  run->vis = std::make_unique<hr::Visibility>(run->hier->patches());
+  run->solver = std::make_unique<hr::Solver>(job.scene, *run->hier, *run->vis, job.opt, job.ext.get(), &job.progress);
   HostResult r;
-  r.st = solver.solve();
+  r.st = run->solver->solve();
   job.progress.phase("writing outputs");
-  r.sol = hr::makeSolution(job.scene, hier, solver.radiosity());
+  r.sol = hr::makeSolution(job.scene, *run->hier, run->solver->radiosity());
+  r.keep = run;
   return r;
 }

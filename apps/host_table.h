@@ -28,6 +28,9 @@ struct HostJob {
 struct HostResult {
   hr::Solution sol;
   hr::SolveStats st;
+  /// The host's nodes and solver, kept until the outputs are written: the extension reads the host
+  /// through them when it saves, renders and writes its part of the .vtp.
+  std::shared_ptr<void> keep;
 };
 
 struct HostEntry {
