@@ -16,9 +16,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
 #include "extension_cli.h"
+#include "host_table.h"
 #include "flag_checks.h"
 #include "info_command.h"
 #include "inspect_command.h"
@@ -34,7 +36,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct SolveArgs {
-  std::string scene, out = "out", algorithm = "diffuse";
+  std::string scene, out = "out", algorithm = "diffuse", host = "bright";
   std::optional<double> eps, tolerance;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
@@ -60,6 +62,7 @@ int runSolve(const SolveArgs& a) {
   checkFlag("--tolerance", a.tolerance, L::kTolerance);
   checkFlag("--threads", a.threads, L::kThreads);
   checkFlag("--seed", a.seed, L::kSeed);
+  const HostEntry& host = findHost(a.host);
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
@@ -84,46 +87,26 @@ int runSolve(const SolveArgs& a) {
   int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
-  progress.phase("tessellating");
-  hr::TessellationReport rep;
-  std::vector<hr::Patch> patches = hr::buildPatches(scene, rep);
-  if (rep.droppedZeroArea)
-    std::fprintf(stderr, "warning: dropped %zu zero-area face(s)\n", rep.droppedZeroArea);
-  if (rep.splitNonPlanar)
-    std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.splitNonPlanar);
-  hr::Hierarchy hier(std::move(patches));
-  if (ext) {
-    // Only the effects a scene calls for: an extension that simulates none of its materials is not
-    // loaded at all, so the run is the diffuse core's to the bit.
-    bool needed = false;
-    for (const hr::Material& m : scene.materials)
-      needed = needed || ext->simulates({m.diffuse, m.specular, m.exponent, m.emission});
-    if (!needed) {
-      if (!a.quiet)
-        std::fprintf(stderr, "note: no material of this scene needs --algorithm %s: solved by the diffuse core alone\n",
-                     a.algorithm.c_str());
-      ext.reset();
-    }
-  }
-  if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(hier.bounds()));
-  // The output folder is checked (and stale staging from a killed run settled) before solving.
-  std::vector<std::string> names = {"solution.ghrs", "solution.vtp"};
-  for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png"});
-  names.push_back("stats.json");
-  hr::OutputSet out(a.out, names);
-  progress.phase("building visibility");
-  hr::Visibility vis(hier.patches());
-  hr::Solver solver(scene, hier, vis, opt, ext.get(), &progress);
-  hr::SolveStats st = solver.solve();
-
-  progress.phase("writing outputs");
-  hr::Solution sol = hr::makeSolution(scene, hier, solver.radiosity());
+  // The output folder is checked (and stale staging from a killed run settled) before solving,
+  // once the host knows the cameras (an automatic one needs the scene's bounds).
+  std::optional<hr::OutputSet> outSet;
+  HostJob job{scene, opt, ext, a.algorithm, progress, a.quiet, [&] {
+                std::vector<std::string> names = {"solution.ghrs", "solution.vtp"};
+                for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png"});
+                names.push_back("stats.json");
+                outSet.emplace(a.out, names);
+              }};
+  HostResult res = host.solve(job);
+  hr::OutputSet& out = *outSet;
+  const hr::SolveStats& st = res.st;
+  hr::Solution& sol = res.sol;
   sol.algorithm = a.algorithm;
   if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
   hr::RunInfo run;
   run.scene = a.scene.empty() ? "built-in:cornell_box" : a.scene;
+  run.host = host.name;
   run.algorithm = a.algorithm;
   run.eps = opt.eps;
   run.maxLevel = opt.maxLevel;
@@ -233,6 +216,9 @@ int main(int argc, char** argv) {
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
   solve->add_flag("--lambertian", sa.lambertian,
                   "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");
+  std::string hostHelp = "radiosity host:";
+  for (const HostEntry& h : hostTable()) hostHelp += std::string(" ") + h.name + " (" + h.summary + "; --algorithm " + h.algorithms + ")";
+  solve->add_option("--host", sa.host, hostHelp)->capture_default_str();
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;

@@ -312,10 +312,11 @@ std::size_t refineLinks(SolverState& s) {
       PhaseTimer t(s.clkVisibility);
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 64), [&](const auto& r) {
         s.clkVisibility.sawThread();
-        std::uint64_t n = 0;
+        std::uint64_t n = 0, links = 0;
         for (std::size_t i = r.begin(); i != r.end(); ++i)
-          if (!pending[i].evaluated) n += std::uint64_t(evaluateLink(s, pending[i]));
+          if (!pending[i].evaluated) n += std::uint64_t(evaluateLink(s, pending[i])), ++links;
         s.rays += n;
+        s.evaluated += links;
       });
     }
     PhaseTimer t(s.clkRefine);

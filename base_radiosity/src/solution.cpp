@@ -23,6 +23,13 @@ Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<
 }
 
 void reconstruct(Solution& s) {
+  // A solution saved for flat display (a "display" section saying "flat": one value per element, as
+  // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
+  if (const std::string* d = findSection(s, "display"); d && *d == "flat") {
+    s.cornerRadiosity.assign(s.elements.size(), {});
+    for (std::size_t i = 0; i < s.elements.size(); ++i) s.cornerRadiosity[i].fill(s.elements[i].radiosity);
+    return;
+  }
   Aabb box;
   for (const Patch& p : s.patches)
     for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);

@@ -162,6 +162,7 @@ struct Solver::Impl final : public HostView {
     st.clusters = h.clusters().size();
     st.links = s.links.size();
     st.rays = s.rays.load();
+    st.linksComputed = s.evaluated.load();
     st.linkBytes = s.links.capacity() * sizeof(Link);
     st.elementBytes = h.elements().capacity() * sizeof(Element) + s.B.capacity() * sizeof(Rgb) * 4;
     st.tTotal = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

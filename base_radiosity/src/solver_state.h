@@ -70,7 +70,7 @@ struct SolverState {
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
   double emittedPower = 0.0;             // luminance, W
   double minArea = 0.0;
-  std::atomic<std::uint64_t> rays{0};
+  std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
   PhaseClock clkVisibility, clkRefine, clkGather, clkPushPull, clkEnergy;
 
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }

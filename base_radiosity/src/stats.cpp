@@ -38,7 +38,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["phases"] = {{"visibility", phase(st.visibility)}, {"refine", phase(st.refine)}, {"gather", phase(st.gather)},
                  {"push_pull", phase(st.pushPull)}, {"energy_check", phase(st.energy)}};
   j["counts"] = {{"initial_patches", st.initialPatches}, {"elements", st.elements}, {"leaves", st.leaves},
-                 {"clusters", st.clusters}, {"links", st.links}, {"rays", st.rays}};
+                 {"clusters", st.clusters}, {"links", st.links}, {"links_computed", st.linksComputed}, {"rays", st.rays}};
   j["memory_bytes"] = {{"peak_rss", peakRss}, {"links", st.linkBytes}, {"elements", st.elementBytes}};
   Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
   j["energy"] = {{"unit", "W per RGB channel"},

@@ -196,8 +196,8 @@ void emitMesh(const PolyMesh& m, const glm::dmat4& xf, bool mirrored, PatchSink&
   }
 }
 
-/// Ear clipping in the polygon's plane (Newell normal): handles non-convex polygons and MGF's holes
-/// given as seams (an edge walked in both directions). Quads that are convex stay whole.
+}  // namespace
+
 std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
   std::vector<Polygon> out;
   // Drop consecutive duplicates (closing vertex repeated, zero-length edges).
@@ -251,6 +251,8 @@ std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
   if (idx.size() == 3) out.push_back(Polygon{{p[idx[0]], p[idx[1]], p[idx[2]], Vec3(0.0)}, 3});
   return out;
 }
+
+namespace {
 
 /// Every vertex an object produced lies where single-precision rays still work (hr/limits.h): the
 /// readers check the values they read, but transforms, MGF contexts and mesh files combine them.

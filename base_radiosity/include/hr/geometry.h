@@ -27,6 +27,11 @@ struct TessellationReport {
 /// emitting surface. Zero-area faces are dropped and counted.
 std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report);
 
+/// Ear clipping in the polygon's plane (Newell normal): handles non-convex polygons and MGF's holes
+/// given as seams (an edge walked in both directions). Quads that are convex stay whole. Shared by
+/// both hosts (the VISION-like one splits only the polygons it cannot keep whole).
+std::vector<Polygon> triangulate(std::vector<Vec3> pts);
+
 /// Reads OBJ (with MTL, via tinyobjloader) or PLY (via OpenMesh) into polygons; exposed for tests.
 struct MeshFace {
   Polygon poly;

@@ -56,6 +56,7 @@ Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<
 
 /// Smooth reconstruction: each leaf corner takes the area-weighted mean radiosity of the leaves that
 /// share that point and face within 30 degrees of it (creases and touching objects stay sharp).
+/// A solution with a "display" section reading "flat" keeps each element's own value instead.
 void reconstruct(Solution& s);
 
 /// Finds the leaf of patch p that holds point x (descends the quadtree by point location).

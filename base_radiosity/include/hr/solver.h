@@ -41,7 +41,8 @@ struct PhaseStat {
 struct SolveStats {
   double tTotal = 0, tRefine = 0, tVisibility = 0, tGather = 0, tPushPull = 0, tEnergy = 0;
   PhaseStat visibility, refine, gather, pushPull, energy;
-  std::size_t initialPatches = 0, elements = 0, leaves = 0, clusters = 0, links = 0;
+  std::size_t initialPatches = 0, elements = 0, leaves = 0, clusters = 0, links = 0;  // links: stored at the end
+  std::uint64_t linksComputed = 0;  // interactions whose transfer was evaluated, over the whole run
   std::uint64_t rays = 0;
   std::size_t linkBytes = 0, elementBytes = 0;
   Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel

@@ -1,0 +1,64 @@
+// A curved furnace on the VISION-like host, solved without tessellation: a closed sphere facing
+// inward. Every surface reflects rho = 0.5 and emits L_e = 1, so
+// at equilibrium every point has B = pi L_e / (1 - rho) = 2 pi W/m^2 (B = B_e + rho B, irradiance B
+// from a closed surround of radiosity B), and what is emitted is absorbed. Tolerances: 1 % per
+// element, 0.5 % for the balance (the issue's acceptance bars). Measured: worst element 9e-4,
+// absorbed / emitted 0.99909 (before a point inside the sender's own rectangle was handled apart,
+// its contour enclosed it: 0.99344). Not here yet: the sphere inside a closed box is within the
+// balance bar (absorbed / emitted 1.00056) but not the per-element one: corner elements, where
+// three faces meet, read 6.2 % high at eps 1e-3 (21 % before receivers' budgets were scaled by
+// their area, shoot.cpp); the light is misplaced within the refinement budget, not lost.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../helpers.h"
+#include "vision_helpers.h"
+
+namespace {
+
+constexpr double kRho = 0.5;
+
+hr::SolverOptions furnaceOptions() {
+  hr::SolverOptions o = testutil::options(1e-3, 4);
+  o.maxIterations = 200;
+  o.tolerance = 1e-5;
+  return o;
+}
+
+void checkFurnace(const visiontest::Solved& s) {
+  ASSERT_TRUE(s.stats.converged);
+  EXPECT_EQ(s.stats.links, 0u) << "link-less shooting stores no links";
+  const double expected = hr::kPi / (1.0 - kRho);
+  double worst = 0.0;
+  std::size_t n = 0;
+  const vision::Element* at = nullptr;
+  for (const vision::Element* e : s.leaves()) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(e->B[c] / expected - 1.0) > worst) worst = std::abs(e->B[c] / expected - 1.0), at = e;
+    ++n;
+  }
+  EXPECT_GT(n, s.h->surfaces().size()) << "the solve refined the whole primitives";
+  EXPECT_LT(worst, 0.01) << "every element's B within 1 % of pi Le / (1 - rho); " << n << " leaves; worst on surface " << at->surface
+                        << " at u " << at->rect.u0 << ".." << at->rect.u1 << ", v " << at->rect.v0 << ".." << at->rect.v1
+                        << ", B/expected " << at->B.y / expected;
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(s.stats.absorbedW[c] / s.stats.emittedW[c], 1.0, 0.005) << "emitted = absorbed within 0.5 %";
+    EXPECT_LT(s.stats.escapedW[c], 1e-3 * s.stats.emittedW[c]) << "nothing escapes a closed furnace";
+  }
+  std::printf("furnace: %zu surfaces, %zu leaves, worst element %.3g, absorbed/emitted %.5f\n", s.h->surfaces().size(), n,
+              worst, s.stats.absorbedW.y / s.stats.emittedW.y);
+}
+
+const std::string kMaterials = R"({ "materials": { "g": { "diffuse": [0.5,0.5,0.5], "emission": [1,1,1] } }, )";
+
+TEST(VisionFurnace, InwardSphere) {
+  hr::Scene sc = hr::parseScene(kMaterials + R"("objects": [ { "type": "sphere", "material": "g", "center": [0,0,0], "radius": 1 } ] })", "");
+  sc.objects[0].inward = true;  // JSON spheres face out; MGF's negative radius is the inward one
+  auto s = visiontest::solve(std::move(sc), furnaceOptions());
+  EXPECT_EQ(s.h->surfaces().size(), 1u) << "the sphere is one whole surface, not a tessellation";
+  checkFurnace(s);
+}
+
+}  // namespace
+

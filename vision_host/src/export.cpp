@@ -1,0 +1,101 @@
+// The VISION-like host's result as an hr::Solution, the form every output reads: each leaf becomes
+// small flat polygons, one patch each with one element carrying the leaf's radiosity (a quad or
+// triangle leaf is one polygon; a star leaf one per polygon edge it spans; a curved leaf a grid whose
+// cells turn at most 7.5 degrees). `render` then needs nothing of this host. A flat display (one
+// value per element, as VISION showed its solutions) is recorded in the solution's "display"
+// section, which hr::reconstruct honours; smooth display averages where elements meet.
+#include <vision/solver.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vision {
+namespace {
+
+constexpr double kCellTurn = 7.5 * hr::kPi / 180.0;
+
+/// Cells of a leaf's display grid along u (at the star map's vertices too) and v.
+void cellBreaks(const Surface& s, const Rect& r, std::vector<double>& us, std::vector<double>& vs) {
+  int nu = 1, nv = 1;
+  if (!s.straightEdges()) nu = std::max(1, int(std::ceil(2.0 * hr::kPi * r.du() / kCellTurn)));
+  if (s.kind == SurfaceKind::Sphere) {
+    double span = std::acos(std::clamp(1.0 - 2.0 * r.v1, -1.0, 1.0)) - std::acos(std::clamp(1.0 - 2.0 * r.v0, -1.0, 1.0));
+    nv = std::max(1, int(std::ceil(std::abs(span) / kCellTurn)));
+  }
+  us.clear(), vs.clear();
+  for (int i = 0; i <= nu; ++i) us.push_back(r.u0 + r.du() * i / nu);
+  for (double b : s.breaks())
+    if (b > r.u0 && b < r.u1) us.push_back(b);
+  std::sort(us.begin(), us.end());
+  for (int j = 0; j <= nv; ++j) vs.push_back(r.v0 + r.dv() * j / nv);
+}
+
+class Exporter {
+ public:
+  Exporter(hr::Solution& sol, const Hierarchy& h) : sol_(sol), h_(h) {}
+
+  void leaf(const Element& e) {
+    const Surface& s = h_.surfaces()[e.surface];
+    cellBreaks(s, e.rect, us_, vs_);
+    for (std::size_t j = 0; j + 1 < vs_.size(); ++j)
+      for (std::size_t i = 0; i + 1 < us_.size(); ++i) {
+        Vec3 c[4] = {s.point(us_[i], vs_[j]), s.point(us_[i + 1], vs_[j]), s.point(us_[i + 1], vs_[j + 1]), s.point(us_[i], vs_[j + 1])};
+        add(c, s.normal(0.5 * (us_[i] + us_[i + 1]), 0.5 * (vs_[j] + vs_[j + 1])), s, e.B);
+      }
+  }
+
+ private:
+  /// One cell as a convex polygon counter-clockwise about the surface's front (collapsed corners
+  /// dropped: a pole or a disk's centre makes a triangle).
+  void add(const Vec3 (&c)[4], const Vec3& front, const Surface& s, const Rgb& B) {
+    hr::Polygon p;
+    p.n = 0;
+    for (const Vec3& v : c) {
+      bool dup = false;
+      for (int k = 0; k < p.n; ++k) dup = dup || glm::length(v - p.v[k]) <= 1e-12 * (1.0 + glm::length(v));
+      if (!dup) p.v[p.n++] = v;
+    }
+    if (p.n < 3) return;
+    Vec3 a = p.areaVector();
+    double area = glm::length(a);
+    if (!(area > 1e-14 * p.radius() * p.radius()) || !(area > 0.0)) return;
+    if (glm::dot(a, front) < 0.0) {
+      std::reverse(p.v.begin(), p.v.begin() + p.n);
+      a = -a;
+    }
+    hr::Patch pt;
+    pt.poly = p;
+    pt.normal = a / area;
+    pt.area = area;
+    pt.material = s.material;
+    pt.object = s.object;
+    const std::uint32_t id = static_cast<std::uint32_t>(sol_.patches.size());
+    sol_.patches.push_back(pt);
+    sol_.elements.push_back({p, id, hr::kNone, 0, B});
+  }
+
+  hr::Solution& sol_;
+  const Hierarchy& h_;
+  std::vector<double> us_, vs_;
+};
+
+}  // namespace
+
+hr::Solution makeSolution(const hr::Scene& scene, const Hierarchy& h, Display display) {
+  hr::Solution sol;
+  sol.sceneName = scene.name;
+  sol.host = "vision";
+  sol.materials = scene.materials;
+  sol.cameras = scene.cameras;
+  sol.objectCount = static_cast<std::uint32_t>(scene.objects.size());
+  Exporter x(sol, h);
+  for (const Element& r : h.roots())
+    forEachElement(r, [&](const Element& e) {
+      if (e.leaf()) x.leaf(e);
+    });
+  if (display == Display::Flat) hr::setSection(sol, "display", "flat");
+  hr::reconstruct(sol);
+  return sol;
+}
+
+}  // namespace vision

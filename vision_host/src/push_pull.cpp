@@ -1,0 +1,132 @@
+// After a shot: the light each node received travels down to the leaves, where it becomes the next
+// shot's unshot light (rho_d E) and joins the radiosity; power and radiosity are pulled back up.
+// A cluster's samples (E_perp toward a sender) reach a flat surface with one cosine for all of it and
+// a curved leaf with its cosine averaged over 3 x 3 points. Parallel over cluster subtrees.
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "state.h"
+
+namespace vision::detail {
+namespace {
+
+constexpr double kNode[3] = {0.1127016653792583, 0.5, 0.8872983346207417};
+constexpr double kW[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+
+struct Chain {
+  const std::vector<ClusterSample>* here = nullptr;
+  const Chain* up = nullptr;
+};
+
+/// Irradiance from every sample of the chain on a surface point of unit normal n: sum E_perp max(0, n.w).
+Rgb onPlane(const Chain* c, const Vec3& n) {
+  Rgb E(0.0);
+  for (; c; c = c->up)
+    if (c->here)
+      for (const ClusterSample& x : *c->here) E += x.Eperp * std::max(0.0, glm::dot(n, x.toSender));
+  return E;
+}
+
+/// The same averaged over a curved leaf.
+Rgb onLeaf(const Chain* c, const Surface& sf, const Rect& r) {
+  Rgb E(0.0);
+  double a = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double u = r.u0 + kNode[i] * r.du(), v = r.v0 + kNode[j] * r.dv();
+      double w = kW[i] * kW[j] * sf.jacobian(u, v);
+      E += w * onPlane(c, sf.normal(u, v)), a += w;
+    }
+  return a > 0.0 ? E / a : Rgb(0.0);
+}
+
+class PushPull {
+ public:
+  PushPull(State& s, bool push) : s_(s), push_(push) {}
+
+  void cluster(std::uint32_t ci, const Chain* up) {
+    sawThread(s_.pushThreads);
+    Cluster& c = s_.h.clusters()[ci];
+    Chain here{&s_.samples[ci], up};
+    const std::size_t n = c.clusters.size() + c.surfaces.size();
+    auto child = [&](std::size_t k) {
+      if (k < c.clusters.size())
+        cluster(c.clusters[k], &here);
+      else
+        element(s_.h.roots()[c.surfaces[k - c.clusters.size()]], Rgb(0.0), &here, true);
+    };
+    if (c.surfaceCount > 64)
+      tbb::parallel_for(std::size_t(0), n, child);
+    else
+      for (std::size_t k = 0; k < n; ++k) child(k);
+    c.P = Rgb(0.0);
+    for (std::uint32_t k : c.clusters) c.P += s_.h.clusters()[k].P;
+    for (std::uint32_t k : c.surfaces) c.P += s_.h.roots()[k].P;
+  }
+
+ private:
+  void element(Element& e, Rgb down, const Chain* chain, bool root) {
+    const Surface& sf = s_.h.surfaces()[e.surface];
+    if (root && chain && sf.planar()) {
+      down += onPlane(chain, sf.normal(0.5, 0.5));
+      chain = nullptr;
+    }
+    const Rgb total = down + e.E;
+    e.E = Rgb(0.0);
+    if (e.leaf() && !push_) {
+      e.P = e.g.area * e.U;  // nothing received yet: a leaf keeps its (emitted) unshot light
+    } else if (e.leaf()) {
+      Rgb E = total + (chain ? onLeaf(chain, sf, e.rect) : Rgb(0.0));
+      Rgb dB = s_.material(e).diffuse * E;
+      e.Etot += E;
+      e.B += dB;
+      e.U = dB;
+      e.P = e.g.area * dB;
+    } else {
+      Rgb P(0.0), BA(0.0);
+      double A = 0.0;
+      for (int k = 0; k < e.nkids; ++k) {
+        Element& c = e.kids[k];
+        element(c, total, chain, false);
+        P += c.P, BA += c.g.area * c.B, A += c.g.area;
+      }
+      e.P = P;
+      e.B = A > 0.0 ? BA / A : e.B;
+      e.U = A > 0.0 ? P / A : Rgb(0.0);
+    }
+    e.sendKids = e.nkids;
+  }
+
+  State& s_;
+  const bool push_;
+};
+
+}  // namespace
+
+double pushPull(State& s, bool push) {
+  if (s.h.clusters().empty()) return 0.0;
+  PushPull(s, push).cluster(0, nullptr);
+  buildTables(s);
+  return hr::luminance(s.h.clusters()[0].P);
+}
+
+void indexClusters(State& s) {
+  const auto& cl = s.h.clusters();
+  s.first.assign(cl.size(), 0);
+  s.order.clear();
+  s.areaPrefix.assign(1, 0.0);
+  // Depth first, children in order: every cluster's surfaces are contiguous.
+  auto visit = [&](auto&& self, std::uint32_t c) -> void {
+    s.first[c] = static_cast<std::uint32_t>(s.order.size());
+    for (std::uint32_t k : cl[c].clusters) self(self, k);
+    for (std::uint32_t k : cl[c].surfaces) {
+      s.order.push_back(k);
+      s.areaPrefix.push_back(s.areaPrefix.back() + s.h.roots()[k].g.area);
+    }
+  };
+  if (!cl.empty()) visit(visit, 0);
+  s.samples.assign(cl.size(), {});
+}
+
+}  // namespace vision::detail

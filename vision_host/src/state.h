@@ -1,0 +1,131 @@
+// The VISION-like solver's shared state, internal to vision_host: the hierarchy, the visibility, the
+// options and the per-shot scratch every phase reads (cluster samples, intensity tables, counters),
+// and the sender and receiver handles of one interaction. Each phase lives in its own file:
+// bounds.cpp (bounded radiosity), contour.cpp and transfer.cpp (estimates), shoot.cpp (link-less
+// shooting), push_pull.cpp, intensity.cpp (unshot intensity), audit.cpp (energy).
+#pragma once
+#include <hr/octamap.h>
+#include <hr/solver.h>
+#include <vision/curved_visibility.h>
+#include <vision/hierarchy.h>
+
+#include <atomic>
+#include <vector>
+
+namespace vision::detail {
+
+/// A node that shoots: a cluster, an element, or a part of a leaf (a rectangle the leaf would split
+/// into; its unshot radiosity is the leaf's, uniform). Parts let a sender be refined without
+/// creating nodes, so senders never touch the tree that receivers are splitting.
+struct Sender {
+  std::uint32_t cluster = hr::kNone;  // cluster index, or kNone for an element or part
+  const Element* e = nullptr;         // the element, or the leaf a part belongs to
+  bool part = false;
+  Rect rect;
+  std::uint16_t level = 0;
+  Geometry g;
+  Rgb U{0.0};  // unshot radiosity, W/m^2 (elements and parts)
+  Rgb P{0.0};  // unshot power, W
+};
+
+/// A node that receives: a cluster or an element (owned by the task that visits it).
+struct Receiver {
+  std::uint32_t cluster = hr::kNone;
+  Element* e = nullptr;
+  const Geometry& g(const Hierarchy& h) const { return e ? e->g : h.clusters()[cluster].g; }
+};
+
+/// Bounds of the point kernel cos_s cos_r / r^2 (1/m^2) between two nodes, from their boxes and
+/// cones of normals; overlap: the boxes meet, so nothing bounds it.
+struct KernelBounds {
+  double kmin = 0.0, kmax = 0.0;
+  bool overlap = false;
+};
+
+struct State {
+  State(const hr::Scene& sc, Hierarchy& hi, const CurvedVisibility& v, const hr::SolverOptions& o)
+      : scene(sc), h(hi), vis(v), opt(o) {}
+  const hr::Scene& scene;
+  Hierarchy& h;
+  const CurvedVisibility& vis;
+  hr::SolverOptions opt;
+
+  double emitted = 0.0;     // luminance, W
+  double threshold = 0.0;   // eps * emitted: the largest gap a kept interaction may have, W
+  double visTolerance = 0.0;
+  double minArea = 0.0;
+  std::vector<std::vector<ClusterSample>> samples;  // per cluster, this shot
+  std::vector<float> tables;                        // OctaMap tables of unshot intensity, W/sr
+  std::vector<std::uint32_t> order;                 // surfaces in cluster order
+  std::vector<std::uint32_t> first;                 // per cluster: where its surfaces start in order
+  std::vector<double> areaPrefix;                   // cumulative area along order
+  mutable std::atomic<std::uint64_t> rays{0}, visibilityNs{0};  // counters the const phases bump
+  // Threads seen working in each phase (bit per TBB thread index): a phase that should be parallel
+  // but ran on one thread shows in stats.json.
+  mutable std::atomic<std::uint64_t> shootThreads{0}, pushThreads{0}, auditThreads{0};
+
+  const hr::Material& material(const Element& e) const { return scene.materials[h.surfaces()[e.surface].material]; }
+  /// Clusters of more surfaces than this keep a table of their unshot intensity.
+  static constexpr std::uint32_t kTabled = 16;
+  const float* table(const Cluster& c) const { return &tables[std::size_t(c.table) * hr::OctaMap::kBins * 3]; }
+};
+
+/// Marks the calling TBB thread in a phase's mask.
+void sawThread(std::atomic<std::uint64_t>& mask);
+
+// bounds.cpp
+KernelBounds kernelBounds(const Geometry& s, const Geometry& r);
+/// A point x with unit normal n, as a node of zero size.
+Geometry pointGeometry(const Vec3& x, const Vec3& n);
+
+// contour.cpp
+/// Form factor from a differential area at x (unit normal n) to the surface bounded by the closed
+/// polyline pts, seen from its front (Lambert's contour integral); clipped to x's horizon when clip.
+double contourFormFactor(const Vec3& x, const Vec3& n, const std::vector<Vec3>& pts, bool clip);
+/// Form factor from a differential area at x (normal n) to a rectangle of a curved surface that x may
+/// see only in part: split until each piece faces x wholly (contour) or not at all.
+double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n, int depth = 0);
+/// The same for x on a concave surface at (u, v) inside the rectangle r of that surface.
+double insideFormFactor(const Surface& sf, const Rect& r, double u, double v, const Vec3& x, const Vec3& n);
+/// The outline of a rectangle of a surface, counter-clockwise about its front, curved edges as
+/// chords turning at most about 3 degrees.
+void outline(const Surface& s, const Rect& r, std::vector<Vec3>& out);
+
+// intensity.cpp
+/// Unshot radiant intensity of a sender toward unit dir, W/sr.
+Rgb unshotIntensity(const State& s, const Sender& snd, const Vec3& dir);
+/// Tables of unshot intensity for the large clusters (after the pull). Parallel.
+void buildTables(State& s);
+
+// transfer.cpp
+struct Estimate {
+  Rgb E{0.0};             // element receiver: mean irradiance; cluster receiver: E_perp; W/m^2
+  Vec3 toSender{0.0};     // receiver -> sender, unit
+  double unoccluded = 0.0;  // power it would bring without occlusion (luminance), W
+  double V = 1.0;           // visible fraction
+  double sigma = 0.0;       // standard error of V
+  bool mixed = false;       // some rays visible, some blocked
+};
+Estimate estimate(const State& s, const Sender& snd, const Receiver& r);
+
+// shoot.cpp
+/// One shot: every node's unshot light to every receiver, interactions derived top-down and not
+/// kept. Returns the interactions used.
+std::uint64_t shoot(State& s);
+
+// push_pull.cpp
+/// Pushes this shot's light down to the leaves (new unshot = rho E, replacing the light just shot),
+/// pulls power and radiosity up; returns the unshot power left (luminance, W). push = false only
+/// pulls: before the first shot, when the leaves' unshot light is their emission.
+double pushPull(State& s, bool push = true);
+/// Surfaces in cluster order with their area prefix (once, after the hierarchy is built).
+void indexClusters(State& s);
+
+// audit.cpp
+struct Audit {
+  Rgb absorbed{0.0}, escaped{0.0}, back{0.0}, stdErr{0.0};
+  std::uint64_t rays = 0;
+};
+Audit auditEnergy(const State& s);
+
+}  // namespace vision::detail
