@@ -59,7 +59,7 @@ struct SolverState {
   SolverOptions opt;
   Extension* ext;
 
-  std::vector<Rgb> B, Bprev, Eg, Et;  // per element: radiosity, previous, gathered, total irradiance
+  std::vector<Rgb> B, Eg, Et;         // per element: radiosity, gathered and total irradiance
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
   std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
   std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly

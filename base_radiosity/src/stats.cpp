@@ -51,7 +51,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["converged"] = st.converged;
   json hist = json::array();
   for (const auto& h : st.history)
-    hist.push_back({{"iteration", h.iteration}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
+    hist.push_back({{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
                     {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"seconds", h.seconds}});
   j["history"] = hist;
   return j.dump(2) + "\n";

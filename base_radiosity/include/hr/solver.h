@@ -19,13 +19,15 @@ struct SolverOptions {
   int raysPerLink = 4;
   int maxIterations = 200;
   double tolerance = 1e-4;    // converged when the iteration's power change < tolerance * emitted
+  int acceleration = 5;       // Anderson mixing depth over fixed links (0: one plain sweep per pass)
   std::uint64_t seed = 1;
   static SolverOptions from(const Settings& s);
 };
 
 struct IterationStat {
-  int iteration = 0;
-  double residualW = 0.0;      // sum over patches of area * |B_new - B_old| (luminance), W
+  int iteration = 0;           // sweep (gather + push/pull), counted over the whole solve
+  int pass = 0;                // refinement pass the sweep belongs to
+  double residualW = 0.0;      // sum over leaves of area * |B_new - B_old| (luminance), W
   double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
   std::size_t links = 0, elements = 0, refined = 0;
   double seconds = 0.0;
