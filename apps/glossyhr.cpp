@@ -2,10 +2,14 @@
 // solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
 // `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp);
 // `reference` path-traces reference images and `compare` measures one image against another.
-// Input is validated completely before the output folder is touched.
+// Input is validated completely before the output folder is touched; every flag against the limits
+// table the scene readers use (flag_checks.h); a command-line error exits 2 like any bad input.
 #include <CLI/CLI.hpp>
 #include <hr/camera.h>
+#include <hr/echo.h>
 #include <hr/output.h>
+#include <hr/output_set.h>
+#include <hr/solution_view.h>
 #include <hr/solver.h>
 #include <tbb/global_control.h>
 
@@ -13,7 +17,10 @@
 #include <filesystem>
 #include <thread>
 
+#include "extension_cli.h"
+#include "flag_checks.h"
 #include "info_command.h"
+#include "inspect_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
 #include "registry.h"
@@ -24,40 +31,45 @@ namespace {
 
 struct SolveArgs {
   std::string scene, out = "out", algorithm = "diffuse";
-  double eps = -1, tolerance = -1;
-  int maxLevel = -1, rays = -1, threads = 0, maxIterations = -1;
-  long long seed = -1;
+  std::optional<double> eps, tolerance;
+  std::optional<int> maxLevel, rays, threads, maxIterations;
+  std::optional<long long> seed;
   bool quiet = false;
+  ExtensionOptions extension;
 };
 
-void writeImages(const hr::Solution& sol, const std::string& dir, bool quiet, std::vector<std::string>& written) {
+void writeImages(const hr::Solution& sol, const hr::Extension* ext, hr::OutputSet& out, bool quiet) {
   for (const hr::Camera& cam : sol.cameras) {
-    hr::Image img = hr::render(sol, cam);
-    std::string exr = (fs::path(dir) / (cam.name + ".exr")).string();
-    std::string png = (fs::path(dir) / (cam.name + ".png")).string();
-    hr::writeExr(img, exr);
-    hr::writePng(img, png);
-    written.push_back(exr);
-    written.push_back(png);
+    hr::Image img = hr::render(sol, cam, ext);
+    hr::writeExr(img, out.path(cam.name + ".exr"));
+    hr::writePng(img, out.path(cam.name + ".png"));
     if (!quiet) std::fprintf(stderr, "rendered camera \"%s\" (%dx%d)\n", cam.name.c_str(), cam.width, cam.height);
   }
 }
 
 int runSolve(const SolveArgs& a) {
+  namespace L = hr::limits;
+  checkFlag("--eps", a.eps, L::kEps);
+  checkFlag("--max-level", a.maxLevel, L::kMaxLevel);
+  checkFlag("--rays-per-link", a.rays, L::kRaysPerLink);
+  checkFlag("--max-iterations", a.maxIterations, L::kMaxIterations);
+  checkFlag("--tolerance", a.tolerance, L::kTolerance);
+  checkFlag("--threads", a.threads, L::kThreads);
+  checkFlag("--seed", a.seed, L::kSeed);
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
-  const auto& entry = adapters::findExtension(a.algorithm);
+  std::unique_ptr<hr::Extension> ext = a.extension.make(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
-  if (a.eps > 0) opt.eps = a.eps;
-  if (a.maxLevel >= 0) opt.maxLevel = a.maxLevel;
-  if (a.rays > 0) opt.raysPerLink = a.rays;
-  if (a.maxIterations > 0) opt.maxIterations = a.maxIterations;
-  if (a.tolerance > 0) opt.tolerance = a.tolerance;
-  if (a.seed >= 0) opt.seed = static_cast<std::uint64_t>(a.seed);
-  int threads = a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (a.eps) opt.eps = *a.eps;
+  if (a.maxLevel) opt.maxLevel = *a.maxLevel;
+  if (a.rays) opt.raysPerLink = *a.rays;
+  if (a.maxIterations) opt.maxIterations = *a.maxIterations;
+  if (a.tolerance) opt.tolerance = *a.tolerance;
+  if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
+  int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
   progress.phase("tessellating");
@@ -68,20 +80,36 @@ int runSolve(const SolveArgs& a) {
   if (rep.splitNonPlanar)
     std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.splitNonPlanar);
   hr::Hierarchy hier(std::move(patches));
+  if (ext) {
+    // Only the effects a scene calls for: an extension that simulates none of its materials is not
+    // loaded at all, so the run is the diffuse core's to the bit.
+    bool needed = false;
+    for (const hr::Material& m : scene.materials)
+      needed = needed || ext->simulates({m.diffuse, m.specular, m.exponent, m.emission});
+    if (!needed) {
+      if (!a.quiet)
+        std::fprintf(stderr, "note: no material of this scene needs --algorithm %s: solved by the diffuse core alone\n",
+                     a.algorithm.c_str());
+      ext.reset();
+    }
+  }
   if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(hier.bounds()));
+  // The output folder is checked (and stale staging from a killed run settled) before solving.
+  std::vector<std::string> names = {"solution.ghrs", "solution.vtp"};
+  for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png"});
+  names.push_back("stats.json");
+  hr::OutputSet out(a.out, names);
   progress.phase("building visibility");
   hr::Visibility vis(hier.patches());
-  auto ext = entry.make ? entry.make() : nullptr;
   hr::Solver solver(scene, hier, vis, opt, ext.get(), &progress);
   hr::SolveStats st = solver.solve();
 
   progress.phase("writing outputs");
   hr::Solution sol = hr::makeSolution(scene, hier, solver.radiosity());
   sol.algorithm = a.algorithm;
+  if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
-  fs::create_directories(a.out);
-  std::vector<std::string> written;
   hr::RunInfo run;
   run.scene = a.scene.empty() ? "built-in:cornell_box" : a.scene;
   run.algorithm = a.algorithm;
@@ -90,16 +118,13 @@ int runSolve(const SolveArgs& a) {
   run.threads = threads;
   run.raysPerLink = opt.raysPerLink;
   run.seed = opt.seed;
-  std::string ghrs = (fs::path(a.out) / "solution.ghrs").string();
-  std::string vtp = (fs::path(a.out) / "solution.vtp").string();
-  hr::saveSolution(sol, ghrs);
-  hr::writeVtp(sol, vtp);
-  written.push_back(ghrs);
-  written.push_back(vtp);
-  writeImages(sol, a.out, a.quiet, written);
-  std::string stats = (fs::path(a.out) / "stats.json").string();
-  hr::writeFileAtomically(stats, hr::statsJson(run, st, hr::peakRssBytes()));
-  written.push_back(stats);
+  if (ext)
+    for (const auto& e : ext->stats()) run.extension.emplace_back(e.name, e.value);
+  hr::saveSolution(sol, out.path("solution.ghrs"));
+  hr::writeVtp(sol, out.path("solution.vtp"), ext.get());
+  writeImages(sol, ext.get(), out, a.quiet);
+  hr::writeFileAtomically(out.path("stats.json"), hr::statsJson(run, st, hr::peakRssBytes()));
+  out.commit();
 
   if (!a.quiet) {
     hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
@@ -113,30 +138,67 @@ int runSolve(const SolveArgs& a) {
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
   }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
-  for (const auto& w : written) std::printf("  %s\n", w.c_str());
+  for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
   return st.converged ? 0 : 3;
 }
 
-int runRender(const std::string& solution, const std::string& camera, const std::string& image, bool quiet) {
-  hr::Solution sol = hr::loadSolution(solution);
-  const hr::Camera* cam = nullptr;
-  std::string names;
-  for (const auto& c : sol.cameras) {
-    if (camera.empty() || c.name == camera) {
-      cam = &c;
-      break;
+struct RenderArgs {
+  std::string solution, camera, image;
+  std::vector<double> eye, lookAt, up;  // a camera the scene did not have
+  double fov = 45.0;
+  int width = 0, height = 0;
+  bool quiet = false;
+};
+
+/// The camera a render asks for: a named one of the solution's, or one made from --eye and
+/// --look-at (with --up, --fov and the size), or the solution's first.
+hr::Camera chooseCamera(const RenderArgs& a, const hr::Solution& sol) {
+  if (!a.eye.empty() || !a.lookAt.empty()) {
+    if (!a.camera.empty()) throw hr::InputError("--camera and --eye/--look-at are alternatives: give one");
+    if (a.eye.size() != 3 || a.lookAt.size() != 3) throw hr::InputError("--eye and --look-at: give both, as X,Y,Z");
+    hr::Camera c;
+    c.name = "custom";
+    c.eye = {a.eye[0], a.eye[1], a.eye[2]};
+    c.lookAt = {a.lookAt[0], a.lookAt[1], a.lookAt[2]};
+    if (!a.up.empty()) {
+      if (a.up.size() != 3) throw hr::InputError("--up: give X,Y,Z");
+      c.up = {a.up[0], a.up[1], a.up[2]};
     }
+    if (!hr::allFinite(c.eye) || !hr::allFinite(c.lookAt) || !hr::allFinite(c.up))
+      throw hr::InputError("--eye/--look-at/--up: finite numbers only");
+    if (glm::length(c.lookAt - c.eye) <= 0.0) throw hr::InputError("--look-at: must differ from --eye");
+    if (glm::length(glm::cross(c.lookAt - c.eye, c.up)) <= 0.0) throw hr::InputError("--up: must not be parallel to the view");
+    if (!(a.fov > 0.0 && a.fov < 180.0)) throw hr::InputError("--fov: degrees in (0, 180)");
+    c.fovYDeg = a.fov;
+    c.width = a.width > 0 ? a.width : sol.cameras.empty() ? 320 : sol.cameras.front().width;
+    c.height = a.height > 0 ? a.height : sol.cameras.empty() ? 240 : sol.cameras.front().height;
+    return c;
   }
+  if (a.width > 0 || a.height > 0) throw hr::InputError("--width/--height: only with --eye and --look-at");
+  std::string names;
   for (const auto& c : sol.cameras) names += (names.empty() ? "" : ", ") + c.name;
-  if (!cam) throw hr::InputError("--camera: no camera \"" + camera + "\" in " + solution + " (cameras: " + names + ")");
-  std::string ext = fs::path(image).extension().string();
-  if (ext != ".exr" && ext != ".png") throw hr::InputError("-o: image must end in .exr or .png");
-  hr::Image img = hr::render(sol, *cam);
-  if (ext == ".exr")
-    hr::writeExr(img, image);
+  for (const auto& c : sol.cameras)
+    if (a.camera.empty() || c.name == a.camera) return c;
+  throw hr::InputError("--camera: no camera " + hr::echo(a.camera) + " in " + a.solution + " (cameras: " +
+                       hr::clipMessage(names, 400) + ")");
+}
+
+int runRender(const RenderArgs& a) {
+  fs::path target(a.image);
+  std::string kind = target.extension().string();
+  if (kind != ".exr" && kind != ".png") throw hr::InputError("-o: image must end in .exr or .png");
+  hr::Solution sol = hr::loadSolution(a.solution);
+  hr::Camera cam = chooseCamera(a, sol);
+  hr::SolutionView view(sol);
+  std::unique_ptr<hr::Extension> ext = loadExtension(sol, view, a.solution);
+  hr::OutputSet out(target.parent_path().string(), {target.filename().string()});
+  hr::Image img = hr::render(sol, cam, ext.get());
+  if (kind == ".exr")
+    hr::writeExr(img, out.path(target.filename().string()));
   else
-    hr::writePng(img, image);
-  if (!quiet) std::fprintf(stderr, "rendered camera \"%s\" to %s\n", cam->name.c_str(), image.c_str());
+    hr::writePng(img, out.path(target.filename().string()));
+  out.commit();
+  if (!a.quiet) std::fprintf(stderr, "rendered camera \"%s\" to %s\n", cam.name.c_str(), a.image.c_str());
   return 0;
 }
 
@@ -151,20 +213,33 @@ int main(int argc, char** argv) {
   solve->add_option("-o,--output", sa.out, "output folder")->capture_default_str();
   solve->add_option("--eps", sa.eps, "relative refinement threshold (link error / emitted power)");
   solve->add_option("--max-level", sa.maxLevel, "maximum quadtree depth below a root patch");
-  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link")->check(CLI::Range(1, 256));
+  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link");
   solve->add_option("--max-iterations", sa.maxIterations, "maximum gathering iterations");
   solve->add_option("--tolerance", sa.tolerance, "stop when the power change is below this fraction of emitted");
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
   solve->add_option("--seed", sa.seed, "random seed for shadow-ray sampling");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
-  std::string solPath, camera, image;
-  bool rquiet = false;
-  auto* render = app.add_subcommand("render", "render a saved solution (.ghrs) again");
-  render->add_option("solution", solPath, "solution.ghrs")->required();
-  render->add_option("--camera", camera, "camera name (default: the first)");
-  render->add_option("-o,--output", image, "output image (.exr or .png)")->required();
-  render->add_flag("--quiet", rquiet, "no progress on stderr");
+  sa.extension.addTo(solve);
+  RenderArgs ra0;
+  auto* render = app.add_subcommand("render", "render a saved solution (.ghrs) again, from any camera");
+  render->add_option("solution", ra0.solution, "solution.ghrs")->required();
+  render->add_option("--camera", ra0.camera, "camera name (default: the first)");
+  render->add_option("--eye", ra0.eye, "a new camera's eye X,Y,Z (m)")->delimiter(',')->expected(3);
+  render->add_option("--look-at", ra0.lookAt, "a new camera's target X,Y,Z (m)")->delimiter(',')->expected(3);
+  render->add_option("--up", ra0.up, "a new camera's up direction X,Y,Z")->delimiter(',')->expected(3);
+  render->add_option("--fov", ra0.fov, "a new camera's vertical field of view, degrees")->capture_default_str();
+  render->add_option("--width", ra0.width, "a new camera's width, pixels")->check(CLI::Range(1, 16384));
+  render->add_option("--height", ra0.height, "a new camera's height, pixels")->check(CLI::Range(1, 16384));
+  render->add_option("-o,--output", ra0.image, "output image (.exr or .png)")->required();
+  render->add_flag("--quiet", ra0.quiet, "no progress on stderr");
+  InspectArgs ia;
+  auto* inspect = app.add_subcommand("inspect", "one element of a saved solution: its light and directional lobe");
+  inspect->add_option("solution", ia.solution, "solution.ghrs")->required();
+  inspect->add_option("--element", ia.element, "element id (as in solution.vtp's element_id)");
+  inspect->add_option("--point", ia.point, "the element under point X,Y,Z (m)")->delimiter(',')->expected(3);
+  inspect->add_option("-o,--output", ia.out, "write the lobe as a VTK surface (.vtp)");
+  inspect->add_flag("--json", ia.json, "print the report as JSON");
   LobeArgs la;
   auto* lobe = app.add_subcommand("lobe", "project one material's reflected lobe into a directional basis and measure it");
   lobe->add_option("--exponent", la.exponent, "Phong exponent n")->capture_default_str();
@@ -199,6 +274,8 @@ int main(int argc, char** argv) {
   compare->add_option("a", ca.a, "candidate image (.exr)")->required();
   compare->add_option("b", ca.b, "reference image (.exr)")->required();
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
+  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids, e.g. the lights (ID,ID,...)")
+      ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
   std::string infoScene;
@@ -206,19 +283,25 @@ int main(int argc, char** argv) {
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
   info->add_option("scene", infoScene, "scene file (.json or .mgf)")->required();
   info->add_flag("--json", infoJson, "print the report as JSON");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // CLI11 exits 104-114 for its errors; a bad command line is bad input like any other: 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     if (*solve) return runSolve(sa);
-    if (*render) return runRender(solPath, camera, image, rquiet);
+    if (*render) return runRender(ra0);
+    if (*inspect) return runInspect(ia);
     if (*lobe) return runLobe(la);
     if (*reference) return runReference(ra);
     if (*compare) return runCompare(ca);
     if (*info) return runInfo(infoScene, infoJson);
   } catch (const hr::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "internal error: %s\n", hr::clipMessage(e.what()).c_str());
     return 1;
   }
   return 0;

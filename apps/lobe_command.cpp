@@ -3,15 +3,10 @@
 // integral_rel_error), and the lobe as a VTK surface whose radius and colour are the projected value.
 #include "lobe_command.h"
 
+#include "lobe_surface.h"
+
 #include <glossy/lobe.h>
 #include <hr/output.h>
-#include <hr/vtk_io.h>
-#include <vtkCellArray.h>
-#include <vtkDoubleArray.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
 
 #include <cmath>
 #include <cstdio>
@@ -31,78 +26,47 @@ glossy::BasisSpec basisFrom(const LobeArgs& a) {
     throw hr::InputError(std::string("--basis: ") + e.what());
   }
   const bool haar = b.basis == glossy::Basis::Haar, tetra = b.basis == glossy::Basis::Tetra, sh = b.basis == glossy::Basis::Sh;
-  require(haar || (a.eps < 0 && a.minLevel < 0 && a.maxLevel < 0 && a.floor < 0 && a.refiner == "relative" && !a.noHints),
+  require(haar || (!a.eps && !a.minLevel && !a.maxLevel && !a.floor && a.refiner == "relative" && !a.noHints),
           "--eps, --min-level, --max-level, --refiner, --floor and --no-hints apply to --basis haar");
-  require(tetra || a.level < 0, "--level applies to --basis tetra");
-  require(sh || (a.order < 0 && a.quadrature < 0), "--order and --quadrature apply to --basis sh");
+  require(tetra || !a.level, "--level applies to --basis tetra");
+  require(sh || (!a.order && !a.quadrature), "--order and --quadrature apply to --basis sh");
   if (haar) {
     if (a.refiner == "absolute")
       b.haar.refiner = glossy::Refiner::Absolute;
     else
       require(a.refiner == "relative", "--refiner: '" + a.refiner + "' is neither relative nor absolute");
-    if (a.eps >= 0) b.haar.eps = a.eps;
-    if (a.floor >= 0) b.haar.floor = a.floor;
-    if (a.minLevel >= 0) b.haar.minLevel = a.minLevel;
-    if (a.maxLevel >= 0) b.haar.maxLevel = a.maxLevel;
+    b.haar.eps = a.eps.value_or(b.haar.eps);
+    b.haar.floor = a.floor.value_or(b.haar.floor);
+    b.haar.minLevel = a.minLevel.value_or(b.haar.minLevel);
+    b.haar.maxLevel = a.maxLevel.value_or(b.haar.maxLevel);
     require(b.haar.eps > 0.0 && std::isfinite(b.haar.eps), "--eps must be a positive number");
+    require(b.haar.floor >= 0.0 && b.haar.floor <= 1.0, "--floor: a fraction of the peak in [0, 1]");
+    require(b.haar.minLevel >= 0, "--min-level must be >= 0");
     require(b.haar.maxLevel <= 12, "--max-level: at most 12 (8 * 4^12 cells)");
     require(b.haar.minLevel <= b.haar.maxLevel, "--min-level must not exceed --max-level (" + std::to_string(b.haar.maxLevel) + ")");
   }
   if (tetra) {
-    if (a.level >= 0) b.tetraLevel = a.level;
-    require(b.tetraLevel <= glossy::TetraMesh::kMaxLevel, "--level: 0 to " + std::to_string(glossy::TetraMesh::kMaxLevel));
+    b.tetraLevel = a.level.value_or(b.tetraLevel);
+    require(b.tetraLevel >= 0 && b.tetraLevel <= glossy::TetraMesh::kMaxLevel, "--level: 0 to " + std::to_string(glossy::TetraMesh::kMaxLevel));
   }
   if (sh) {
-    if (a.order >= 0) b.shOrder = a.order;
-    if (a.quadrature >= 0) b.shQuadrature = a.quadrature;
+    b.shOrder = a.order.value_or(b.shOrder);
+    b.shQuadrature = a.quadrature.value_or(b.shQuadrature);
     require(b.shOrder >= 1 && b.shOrder <= glossy::ShDistribution::kMaxOrder,
             "--order: 1 to " + std::to_string(glossy::ShDistribution::kMaxOrder));
-    require(a.quadrature < 0 || a.quadrature >= b.shOrder, "--quadrature: at least the order");
+    require(!a.quadrature || *a.quadrature >= b.shOrder, "--quadrature: at least the order");
   }
   return b;
-}
-
-/// The lobe on a fine sphere (the level-7 tetrahedron mesh): radius = luminance of the projected
-/// value, colour arrays for the projected and the analytic intensity.
-void writeLobeVtp(const std::string& path, const glossy::AnyDistribution& d, const glossy::Lobe& lobe) {
-  const glossy::TetraMesh& m = glossy::TetraMesh::get(7);
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  vtkNew<vtkDoubleArray> projected, analytic;
-  projected->SetName("intensity");
-  projected->SetNumberOfComponents(3);
-  analytic->SetName("analytic_intensity");
-  analytic->SetNumberOfComponents(3);
-  for (std::size_t i = 0; i < m.vertexCount(); ++i) {
-    const glossy::Vec3& v = m.vertex(i);
-    glossy::Rgb p = glossy::eval(d, v), t = lobe(v);
-    double r = std::max(0.0, hr::luminance(p));  // spherical harmonics may ring below zero
-    pts->InsertNextPoint(r * v.x, r * v.y, r * v.z);
-    projected->InsertNextTuple3(p.x, p.y, p.z);
-    analytic->InsertNextTuple3(t.x, t.y, t.z);
-  }
-  vtkNew<vtkCellArray> polys;
-  for (std::size_t t = 0; t < m.triangleCount(); ++t) {
-    const auto& tri = m.triangle(t);
-    vtkIdType ids[3] = {vtkIdType(tri[0]), vtkIdType(tri[1]), vtkIdType(tri[2])};
-    polys->InsertNextCell(3, ids);
-  }
-  vtkNew<vtkPolyData> pd;
-  pd->SetPoints(pts);
-  pd->SetPolys(polys);
-  pd->GetPointData()->AddArray(projected);
-  pd->GetPointData()->AddArray(analytic);
-  pd->GetPointData()->SetActiveScalars("intensity");
-  hr::writePolyData(pd, path);
 }
 
 }  // namespace
 
 int runLobe(const LobeArgs& a) {
   require(std::isfinite(a.exponent) && a.exponent >= 0.0, "--exponent must be a number >= 0");
-  require(a.specular >= 0.0 && a.diffuse >= 0.0, "--specular and --diffuse must be >= 0 (no negative reflectance)");
+  require(std::isfinite(a.specular) && std::isfinite(a.diffuse) && a.specular >= 0.0 && a.diffuse >= 0.0,
+          "--specular and --diffuse must be >= 0 (no negative reflectance)");
   require(a.specular + a.diffuse <= 1.0, "--specular + --diffuse must not exceed 1 (the material would gain energy)");
-  require(a.incidentDeg >= 0.0 && a.incidentDeg < 90.0, "--incident-deg: 0 <= angle from the normal < 90");
+  require(std::isfinite(a.incidentDeg) && a.incidentDeg >= 0.0 && a.incidentDeg < 90.0, "--incident-deg: 0 <= angle from the normal < 90");
   require(std::isfinite(a.azimuthDeg), "--azimuth-deg must be a number");
   require(a.out.empty() || (a.out.size() > 4 && a.out.substr(a.out.size() - 4) == ".vtp"), "-o: the lobe file must end in .vtp");
   glossy::BasisSpec basis = basisFrom(a);
@@ -115,7 +79,11 @@ int runLobe(const LobeArgs& a) {
   spec.hints = !a.noHints;
   glossy::AnyDistribution d;
   glossy::LobeReport r = glossy::analyzeLobe(spec, basis, true, &d);
-  if (!a.out.empty()) writeLobeVtp(a.out, d, glossy::Lobe(spec));
+  if (!a.out.empty()) {
+    glossy::Lobe analytic(spec);
+    writeLobeSurface(a.out, {{"intensity", [&](const hr::Vec3& v) { return glossy::eval(d, v); }},
+                             {"analytic_intensity", [&](const hr::Vec3& v) { return analytic(v); }}});
+  }
   if (a.json) {
     nlohmann::json j;
     j["basis"] = basis.describe();

@@ -1,8 +1,10 @@
-// The reference and compare commands. Input is validated before the output folder is touched; every
-// file goes through the core's atomic writers.
+// The reference and compare commands. Input is validated before the output folder is touched; the
+// files of a run are written as one set (hr/output_set.h). compare refuses images it cannot measure
+// against (non-finite pixels, an all-black reference) instead of reporting a misleading 0.
 #include "reference_command.h"
 
 #include <hr/camera.h>
+#include <hr/output_set.h>
 #include <ref/compare.h>
 #include <ref/path_tracer.h>
 #include <tbb/global_control.h>
@@ -12,19 +14,24 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "flag_checks.h"
+
 namespace fs = std::filesystem;
 
 int runReference(const ReferenceArgs& a) {
-  if (a.spp > 0 && a.timeS > 0) throw hr::InputError("--spp and --time-s are alternatives: give one");
-  if (a.spp == 0 || a.spp < -1) throw hr::InputError("--spp must be at least 1");
-  if (a.timeS == 0.0 || (a.timeS < 0 && a.timeS != -1.0)) throw hr::InputError("--time-s must be positive");
-  if (a.maxDepth < 1) throw hr::InputError("--max-depth must be at least 1");
+  namespace L = hr::limits;
+  if (a.spp && a.timeS) throw hr::InputError("--spp and --time-s are alternatives: give one");
+  checkFlag("--spp", a.spp, L::kSpp);
+  checkFlag("--time-s", a.timeS, L::kTimeS);
+  checkFlag("--max-depth", std::optional<int>(a.maxDepth), L::kMaxDepth);
+  checkFlag("--threads", a.threads, L::kThreads);
+  checkFlag("--seed", std::optional<long long>(a.seed), L::kSeed);
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
-  int threads = a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   hr::TessellationReport rep;
   std::vector<hr::Patch> patches = hr::buildPatches(scene, rep);
@@ -33,10 +40,14 @@ int runReference(const ReferenceArgs& a) {
   for (const auto& p : patches)
     for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
   if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(box));
+  std::vector<std::string> names;
+  for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png", c.name + ".var.exr"});
+  names.push_back("stats.json");
+  hr::OutputSet out(a.out, names);
   ref::PathTracer pt(scene, std::move(patches));
   ref::Options o;
-  o.spp = a.spp > 0 ? a.spp : 64;
-  o.timeS = a.timeS > 0 ? a.timeS : 0.0;
+  o.spp = a.spp.value_or(64);
+  o.timeS = a.timeS.value_or(0.0);
   o.maxDepth = a.maxDepth;
   o.seed = static_cast<std::uint64_t>(a.seed);
 
@@ -46,8 +57,6 @@ int runReference(const ReferenceArgs& a) {
     results.emplace_back(cam, pt.render(cam, o, &progress));
   }
   progress.phase("writing outputs");
-  fs::create_directories(a.out);
-  std::vector<std::string> written;
   nlohmann::json stats;
   stats["scene"] = a.scene.empty() ? "built-in:cornell_box" : a.scene;
   stats["algorithm"] = "path tracing, next-event estimation + BRDF sampling (MIS, power heuristic), Russian roulette";
@@ -57,13 +66,11 @@ int runReference(const ReferenceArgs& a) {
   stats["units"] = "radiance W/(m^2 sr); variance of the pixel mean (W/(m^2 sr))^2";
   nlohmann::json cams = nlohmann::json::array();
   for (auto& [cam, r] : results) {
-    std::string base = (fs::path(a.out) / cam.name).string();
-    hr::writeExr(r.image, base + ".exr");
-    hr::writePng(r.image, base + ".png");
+    hr::writeExr(r.image, out.path(cam.name + ".exr"));
+    hr::writePng(r.image, out.path(cam.name + ".png"));
     hr::Image var = r.image;
     var.rgb = r.variance;
-    hr::writeExr(var, base + ".var.exr");
-    written.insert(written.end(), {base + ".exr", base + ".png", base + ".var.exr"});
+    hr::writeExr(var, out.path(cam.name + ".var.exr"));
     cams.push_back({{"name", cam.name},
                     {"width", cam.width},
                     {"height", cam.height},
@@ -81,19 +88,25 @@ int runReference(const ReferenceArgs& a) {
                    100.0 * r.relStdError);
   }
   stats["cameras"] = cams;
-  std::string sj = (fs::path(a.out) / "stats.json").string();
-  hr::writeFileAtomically(sj, stats.dump(2) + "\n");
-  written.push_back(sj);
+  hr::writeFileAtomically(out.path("stats.json"), stats.dump(2) + "\n");
+  out.commit();
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
-  for (const auto& w : written) std::printf("  %s\n", w.c_str());
+  for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
   return 0;
 }
 
 int runCompare(const CompareArgs& a) {
   if (!a.out.empty() && fs::path(a.out).extension() != ".png") throw hr::InputError("-o: the difference image must end in .png");
+  checkFlag("--mask", a.mask, hr::limits::kObjectId);
+  const long mask = a.mask ? static_cast<long>(*a.mask) : -1;
+  std::vector<std::uint32_t> exclude;
+  for (long long id : a.exclude) {
+    checkFlag("--exclude", std::optional<long long>(id), hr::limits::kObjectId);
+    exclude.push_back(static_cast<std::uint32_t>(id));
+  }
   hr::Image A = hr::readExr(a.a), B = hr::readExr(a.b);
-  ref::Metrics m = ref::compare(A, B, a.mask, a.a, a.b);
-  if (!a.out.empty()) ref::writeDifferencePng(A, B, a.out, a.mask);
+  ref::Metrics m = ref::compare(A, B, mask, a.a, a.b, exclude);
+  if (!a.out.empty()) ref::writeDifferencePng(A, B, a.out, mask, 0.25, exclude);
   if (a.json) {
     nlohmann::json j = {{"a", a.a},
                         {"b", a.b},
@@ -106,11 +119,12 @@ int runCompare(const CompareArgs& a) {
                         {"mean_a", m.meanA},
                         {"mean_b", m.meanB},
                         {"units", "luminance of radiance, W/(m^2 sr); relative errors against B's mean"}};
-    if (a.mask >= 0) j["mask_object_id"] = a.mask;
+    if (a.mask) j["mask_object_id"] = *a.mask;
+    if (!a.exclude.empty()) j["excluded_object_ids"] = a.exclude;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("A = %s, B = %s (reference)%s\n", a.a.c_str(), a.b.c_str(),
-                a.mask >= 0 ? (", object " + std::to_string(a.mask) + " only").c_str() : "");
+                a.mask ? (", object " + std::to_string(*a.mask) + " only").c_str() : "");
     std::printf("  pixels            %zu\n", m.pixels);
     std::printf("  rel RMSE          %.4g\n", m.relRmse);
     std::printf("  mean rel error    %.4g\n", m.meanRelError);

@@ -1,12 +1,15 @@
 // `glossyhr reference` (the path-traced reference of a scene) and `glossyhr compare` (metrics and a
 // false-colour difference between two EXR images).
 #pragma once
+#include <optional>
 #include <string>
+#include <vector>
 
 struct ReferenceArgs {
   std::string scene, out = "out/reference";
-  int spp = -1, maxDepth = 64, threads = 0;
-  double timeS = -1.0;
+  std::optional<int> spp, threads;
+  int maxDepth = 64;
+  std::optional<double> timeS;
   long long seed = 1;
   bool quiet = false;
 };
@@ -14,7 +17,8 @@ int runReference(const ReferenceArgs& a);
 
 struct CompareArgs {
   std::string a, b, out;
-  long mask = -1;
+  std::optional<long long> mask;
+  std::vector<long long> exclude;  // objects left out (the light sources, say)
   bool json = false;
 };
 int runCompare(const CompareArgs& a);

@@ -38,6 +38,14 @@ struct Solved {
   }
 };
 
+/// Solver options with a threshold and a depth, the rest at their defaults.
+inline hr::SolverOptions options(double eps, int maxLevel) {
+  hr::SolverOptions o;
+  o.eps = eps;
+  o.maxLevel = maxLevel;
+  return o;
+}
+
 inline Solved solveText(const std::string& json, hr::SolverOptions opt, hr::Extension* ext = nullptr) {
   Solved s;
   s.scene = hr::parseScene(json, "");

@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "helpers.h"
+#include "test_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -30,7 +31,7 @@ class LobeErrors : public ::testing::TestWithParam<BadLobe> {};
 
 TEST_P(LobeErrors, ClearMessageNonZeroExitNoOutput) {
   const BadLobe& c = GetParam();
-  fs::path out = fs::temp_directory_path() / ("ghr_lobe_err_" + std::string(c.name) + ".vtp");
+  fs::path out = testutil::testDir() / "lobe.vtp";
   fs::remove(out);
   std::string text;
   int status = testutil::runCli(std::string("lobe ") + c.args + " -o " + out.string(), text);
@@ -59,7 +60,7 @@ TEST(LobeCli, WrongSuffixIsRejected) {
 }
 
 TEST(LobeCli, JsonReportAndVtkSurface) {
-  fs::path out = fs::temp_directory_path() / "ghr_lobe_ok.vtp";
+  fs::path out = testutil::testDir() / "lobe.vtp";
   fs::remove(out);
   std::string text;
   ASSERT_EQ(testutil::runCli("lobe --exponent 500 --specular 0.6 --diffuse 0.2 --incident-deg 40 --json -o " + out.string(), text), 0)

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "helpers.h"
+#include "test_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -25,14 +26,9 @@ struct Built {
   Vec3 areaVector{0.0};
 };
 
-/// Files go to a folder of the running test's own: ctest runs tests in parallel processes.
+/// Files go to the running test's own folder, removed when it ends (test_dir.h).
 fs::path writeMgf(const std::string& name, const std::string& text) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string test = std::string(info->test_suite_name()) + "_" + info->name();
-  std::replace(test.begin(), test.end(), '/', '_');
-  fs::path dir = fs::temp_directory_path() / ("ghr_mgf_" + test);
-  fs::create_directories(dir);
-  fs::path p = dir / name;
+  fs::path p = testutil::testDir() / name;
   std::ofstream(p) << text;
   return p;
 }

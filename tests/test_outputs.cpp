@@ -12,22 +12,18 @@
 #include <fstream>
 
 #include "helpers.h"
+#include "test_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-hr::SolverOptions quick() {
-  hr::SolverOptions o;
-  o.eps = 1e-3;
-  o.maxLevel = 4;
-  return o;
-}
+hr::SolverOptions quick() { return testutil::options(1e-3, 4); }
 
 TEST(Outputs, VtpReadsBackWithVtk) {
   auto s = testutil::solveText(hr::kDefaultSceneJson, quick());
   hr::Solution sol = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
-  fs::path p = fs::temp_directory_path() / "ghr_test.vtp";
+  fs::path p = testutil::testDir() / "test.vtp";
   hr::writeVtp(sol, p.string());
   vtkNew<vtkXMLPolyDataReader> r;
   r->SetFileName(p.string().c_str());
@@ -46,7 +42,7 @@ TEST(Outputs, VtpReadsBackWithVtk) {
 TEST(Outputs, SolutionFileRoundTripAndRejection) {
   auto s = testutil::solveText(hr::kDefaultSceneJson, quick());
   hr::Solution sol = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
-  fs::path p = fs::temp_directory_path() / "ghr_test.ghrs";
+  fs::path p = testutil::testDir() / "test.ghrs";
   hr::saveSolution(sol, p.string());
   hr::Solution back = hr::loadSolution(p.string());
   ASSERT_EQ(back.elements.size(), sol.elements.size());
@@ -61,7 +57,7 @@ TEST(Outputs, SolutionFileRoundTripAndRejection) {
     std::ifstream in(p, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
-  fs::path t = fs::temp_directory_path() / "ghr_trunc.ghrs";
+  fs::path t = testutil::testDir() / "trunc.ghrs";
   std::ofstream(t, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   try {
     hr::loadSolution(t.string());
@@ -106,7 +102,7 @@ TEST(Robustness, ScaledScenesGiveScaleFreeAnswers) {
 TEST(Robustness, TouchingCoplanarAndSliverGeometry) {
   // A box standing on the floor (coplanar contact), two coplanar quads sharing an edge, a sliver
   // triangle 1e-7 wide and a zero-area face in an OBJ file.
-  fs::path obj = fs::temp_directory_path() / "ghr_sliver.obj";
+  fs::path obj = testutil::testDir() / "sliver.obj";
   std::ofstream(obj) << "v 0 0.5 0\nv 1 0.5 0\nv 0.5 0.5 1e-7\nv 0 0.7 0\nv 1 0.7 0\nv 2 0.7 0\n"
                         "f 1 2 3\nf 4 5 6\n";
   std::string scene = R"({ "materials": { "l": { "emission": [2,2,2] }, "w": { "diffuse": [0.6,0.6,0.6] } },

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "helpers.h"
+#include "test_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -59,9 +60,7 @@ class SceneErrors : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SceneErrors, ClearMessageNonZeroExitNoOutput) {
   const Case& c = GetParam();
-  fs::path dir = fs::temp_directory_path() / ("ghr_err_" + std::string(c.name));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  fs::path dir = testutil::testDir();
   fs::path scene = dir / "scene.json";
   std::ofstream(scene) << c.scene;
   if (c.meshName) std::ofstream(dir / c.meshName) << c.mesh;

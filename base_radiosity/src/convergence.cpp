@@ -118,6 +118,7 @@ double Accelerator::sweep() {
     const std::uint32_t e = leaves_[k];
     res += s_.h.element(e).area * absLuminance(s_.mat(e).diffuse * (g_[k] - x_[k]));
   }
+  if (s_.ext) res += s_.ext->powerChange();  // the extension's light converges too
   last_ = res;
   return res;
 }

@@ -9,11 +9,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <hr/input_file.h>
+#include <hr/limits.h>
 #include <hr/output.h>
 
 namespace hr {
 
+/// No output may hold NaN or Inf: a writer that meets one is looking at a bug upstream.
+void requireFinite(const Image& img, const std::string& path) {
+  for (float v : img.rgb)
+    if (!std::isfinite(v)) throw std::runtime_error(path + ": refusing to write an image with a non-finite pixel");
+}
+
 void writeExr(const Image& img, const std::string& path) {
+  requireFinite(img, path);
   writeAtomically(path, [&](const std::string& tmp) {
     Imf::Header header(img.width, img.height);
     const char* names[3] = {"R", "G", "B"};
@@ -35,11 +44,16 @@ void writeExr(const Image& img, const std::string& path) {
 
 Image readExr(const std::string& path) {
   Image img;
+  checkInputFile(path, "EXR image", limits::kMaxImageBytes);
   try {
     Imf::InputFile file(path.c_str());
     auto dw = file.header().dataWindow();
-    img.width = dw.max.x - dw.min.x + 1;
-    img.height = dw.max.y - dw.min.y + 1;
+    const long long w = (long long)dw.max.x - dw.min.x + 1, h = (long long)dw.max.y - dw.min.y + 1;
+    if (!limits::kImageSize.contains(double(w)) || !limits::kImageSize.contains(double(h)))
+      throw InputError(path + ": EXR image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels, outside " +
+                       limits::kImageSize.text() + " per side");
+    img.width = int(w);
+    img.height = int(h);
     img.rgb.assign(std::size_t(img.width) * img.height * 3, 0.0f);
     Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
@@ -53,6 +67,8 @@ Image readExr(const std::string& path) {
     }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read EXR: " + e.what());
   }
@@ -67,6 +83,7 @@ void writePng8(const std::vector<unsigned char>& rgb, int width, int height, con
 }
 
 void writePng(const Image& img, const std::string& path) {
+  requireFinite(img, path);
   double sumLog = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < img.rgb.size(); i += 3) {

@@ -2,6 +2,9 @@
 // and the geometric entities. Vertices are transformed at use, not at definition (as the format
 // says); materials are snapshotted into scene materials when geometry uses them, so a material
 // changed later gives later geometry a new scene material. See docs/mgf.md for the conversions.
+#include <hr/echo.h>
+#include <hr/input_file.h>
+#include <hr/limits.h>
 #include <hr/mgf.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -9,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -24,6 +26,9 @@ namespace {
 
 constexpr double kWhiteEfficacy = 179.0;  // lm/W, Radiance's and RenderPark's white light
 constexpr double kMaxExponent = 10000.0;  // Phong exponent for a perfect mirror (alpha = 0)
+// The spectrum locus never comes below y = 0.0048: a smaller y is no colour, and x / y would overflow.
+constexpr double kMinChromaY = 1e-3;
+constexpr std::size_t kMaxNesting = 1000;  // xf contexts and includes open at once (recursion depth)
 
 struct Colour {
   double x = 1.0 / 3.0, y = 1.0 / 3.0;
@@ -50,23 +55,36 @@ class MgfReader {
   MgfReader(Scene& s, const glm::dmat4& base, const std::string& where) : scene_(s), base_(base), where_(where) {}
 
   void readFile(const std::string& path, const glm::dmat4& xf) {
-    std::string canon = fs::weakly_canonical(fs::path(path)).string();
+    std::string text;
+    try {
+      text = readInputFile(path, "MGF file", limits::kMaxMgfBytes);
+    } catch (const InputError& e) {
+      throw InputError(where_ + e.what());
+    }
+    readText(text, path, xf);
+  }
+
+  void readText(std::string text, const std::string& path, const glm::dmat4& xf) {
+    std::error_code ec;
+    std::string canon = fs::weakly_canonical(fs::path(path), ec).string();
+    if (ec) canon = path;
     if (std::find(files_.begin(), files_.end(), canon) != files_.end())
       throw InputError(where_ + path + ": recursive include");
-    std::ifstream in(path);
-    if (!in) throw InputError(where_ + path + ": cannot open MGF file");
+    if (files_.size() >= kMaxNesting) throw InputError(where_ + path + ": includes nested too deeply");
+    stripUtf8Bom(text);
+    std::istringstream in(std::move(text));
     std::vector<Line> lines;
-    std::string text, acc;
+    std::string acc, raw;
     std::size_t n = 0, start = 0;
-    while (std::getline(in, text)) {
+    while (std::getline(in, raw)) {
       ++n;
-      if (!text.empty() && text.back() == '\r') text.pop_back();
+      if (!raw.empty() && raw.back() == '\r') raw.pop_back();
       if (acc.empty()) start = n;
-      if (!text.empty() && text.back() == '\\') {  // continuation
-        acc += text.substr(0, text.size() - 1) + " ";
+      if (!raw.empty() && raw.back() == '\\') {  // continuation
+        acc += raw.substr(0, raw.size() - 1) + " ";
         continue;
       }
-      acc += text;
+      acc += raw;
       std::istringstream ss(acc);
       Line l{start, {}};
       for (std::string t; ss >> t;) l.tok.push_back(t);
@@ -119,7 +137,8 @@ class MgfReader {
  private:
   // ---- errors and numbers --------------------------------------------------------------------
   [[noreturn]] void fail(const Line& l, const std::string& msg) const {
-    throw InputError(where_ + paths_.back() + ": line " + std::to_string(l.number) + ": " + l.tok[0] + ": " + msg);
+    std::string entity = l.tok[0].size() <= 16 ? l.tok[0] : echo(l.tok[0]);
+    throw InputError(where_ + paths_.back() + ": line " + std::to_string(l.number) + ": " + entity + ": " + msg);
   }
   static std::string fmt(double v) {
     std::ostringstream s;
@@ -131,8 +150,33 @@ class MgfReader {
     const std::string& t = l.tok[i];
     char* end = nullptr;
     double v = std::strtod(t.c_str(), &end);
-    if (end != t.c_str() + t.size() || !std::isfinite(v)) fail(l, "argument " + std::to_string(i) + " \"" + t + "\" is not a finite number");
+    if (end != t.c_str() + t.size() || !std::isfinite(v))
+      fail(l, "argument " + std::to_string(i) + " " + echo(t) + " is not a finite number");
     return v;
+  }
+  /// A number inside a range of the limits table.
+  double bounded(const Line& l, std::size_t i, const limits::Range& r) const {
+    double v = num(l, i);
+    if (!r.contains(v)) fail(l, "argument " + std::to_string(i) + " (" + fmt(v) + ") outside the allowed range " + r.text());
+    return v;
+  }
+  /// A repeat count (xf -i, -a): an integer in [lo, kMaxMgfIterate].
+  int count(const Line& l, std::size_t i, int lo) const {
+    double v = num(l, i);
+    if (v != std::floor(v) || v < lo || v > limits::kMaxMgfIterate)
+      fail(l, "count " + fmt(v) + " is not an integer in [" + std::to_string(lo) + ", " +
+                  std::to_string(limits::kMaxMgfIterate) + "]");
+    return static_cast<int>(v);
+  }
+  /// Bounded work: every entity evaluated (array copies included) counts.
+  void work(const Line& l, std::uint64_t units) {
+    afford(l, units);
+    work_ += units;
+  }
+  void afford(const Line& l, std::uint64_t units) const {
+    if (work_ + units > limits::kMaxMgfWork)
+      fail(l, "more than " + std::to_string(limits::kMaxMgfWork) +
+                  " entity evaluations (transform arrays too large for the documented limit)");
   }
   void arity(const Line& l, std::size_t lo, std::size_t hi) const {
     std::size_t n = l.tok.size() - 1;
@@ -149,14 +193,15 @@ class MgfReader {
       const std::string& a = l.tok[i];
       glm::dmat4 t(1.0);
       if (a == "-t") {
-        t = glm::translate(glm::dmat4(1.0), Vec3(num(l, i + 1), num(l, i + 2), num(l, i + 3)));
+        t = glm::translate(glm::dmat4(1.0), Vec3(bounded(l, i + 1, limits::kCoordinate), bounded(l, i + 2, limits::kCoordinate),
+                                                 bounded(l, i + 3, limits::kCoordinate)));
         i += 4;
       } else if (a == "-rx" || a == "-ry" || a == "-rz") {
         Vec3 axis(a == "-rx", a == "-ry", a == "-rz");
-        t = glm::rotate(glm::dmat4(1.0), glm::radians(num(l, i + 1)), axis);
+        t = glm::rotate(glm::dmat4(1.0), glm::radians(bounded(l, i + 1, limits::kAngleDeg)), axis);
         i += 2;
       } else if (a == "-s") {
-        double s = num(l, i + 1);
+        double s = bounded(l, i + 1, limits::kScale);
         if (s == 0.0) fail(l, "-s 0 collapses the geometry");
         t = glm::scale(glm::dmat4(1.0), Vec3(s));
         i += 2;
@@ -165,7 +210,7 @@ class MgfReader {
         i += 1;
       } else if (a == "-i") {
         // Iterate: the following transforms (up to the next -i or -a) apply N times.
-        int n = static_cast<int>(num(l, i + 1));
+        int n = count(l, i + 1, 0);
         std::size_t j = i + 2;
         while (j < to && l.tok[j] != "-i" && l.tok[j] != "-a") ++j;
         glm::dmat4 once = xform(l, i + 2, j);
@@ -189,6 +234,8 @@ class MgfReader {
     for (std::size_t i = b; i < e; ++i) {
       const Line& l = lines[i];
       const std::string& k = l.tok[0];
+      work(l, 1);
+      if (k == "xf" && xf_.size() >= kMaxNesting) fail(l, "transform contexts nested too deeply");
       if (k == "xf") {
         if (l.tok.size() == 1) {
           if (xf_.size() <= depthFloor()) fail(l, "xf end without a matching xf");
@@ -202,17 +249,14 @@ class MgfReader {
         }
         // An array: the enclosed lines up to the matching "xf" repeat N times, copy k with the
         // array's transform applied k times (after the transforms that precede -a).
-        std::size_t j = i + 1;
-        for (int open = 1; j < e; ++j) {
-          if (lines[j].tok[0] != "xf") continue;
-          open += lines[j].tok.size() == 1 ? -1 : 1;
-          if (open == 0) break;
-        }
+        std::size_t j = closing(lines, i, e);
         if (j >= e) fail(l, "array without its closing xf");
         std::size_t at = std::size_t(arr - l.tok.begin());
         glm::dmat4 pre = xform(l, 1, at);
-        int n = static_cast<int>(num(l, at + 1));
-        if (n < 1) fail(l, "-a needs a count >= 1");
+        int n = count(l, at + 1, 1);
+        // The copies evaluate the enclosed lines n times, nested arrays multiplied out: refuse up
+        // front what the limit cannot hold, instead of running into it after minutes.
+        afford(l, std::min<std::uint64_t>(limits::kMaxMgfWork + 1, std::uint64_t(n) * cost(lines, i + 1, j)));
         glm::dmat4 step = xform(l, at + 2, l.tok.size()), acc(1.0);
         for (int c = 0; c < n; ++c) {
           xf_.push_back(acc * pre);
@@ -232,13 +276,19 @@ class MgfReader {
       } else if (k == "i") {
         if (l.tok.size() < 2) fail(l, "missing file name");
         fs::path f = fs::path(paths_.back()).parent_path() / l.tok[1];
-        if (!fs::is_regular_file(f)) fail(l, "cannot open included file " + f.string());
-        readFile(f.string(), xform(l, 2, l.tok.size()));
+        glm::dmat4 m = xform(l, 2, l.tok.size());
+        std::string text;
+        try {
+          text = readInputFile(f.string(), "included MGF file", limits::kMaxMgfBytes);
+        } catch (const InputError& err) {
+          fail(l, std::string("cannot open included file ") + err.what());
+        }
+        readText(std::move(text), f.string(), m);
       } else if (k == "v") {
         context(l, vertices_, unnamedVertex_, curVertex_, "vertex");
       } else if (k == "p" || k == "n") {
         arity(l, 3, 3);
-        Vec3 v(num(l, 1), num(l, 2), num(l, 3));
+        Vec3 v(bounded(l, 1, limits::kCoordinate), bounded(l, 2, limits::kCoordinate), bounded(l, 3, limits::kCoordinate));
         (k == "p" ? vertex().p : vertex().n) = v;
       } else if (k == "c" || k == "cxy" || k == "cspec" || k == "cct" || k == "cmix") {
         colourEntity(l);
@@ -256,6 +306,34 @@ class MgfReader {
   }
   std::size_t depthFloor() const { return files_.size(); }  // each file's own xf sits at its base
 
+  /// The line of the "xf" that closes the context opened at line i (e if none before e).
+  static std::size_t closing(const std::vector<Line>& lines, std::size_t i, std::size_t e) {
+    std::size_t j = i + 1;
+    for (int open = 1; j < e; ++j) {
+      if (lines[j].tok[0] != "xf") continue;
+      open += lines[j].tok.size() == 1 ? -1 : 1;
+      if (open == 0) break;
+    }
+    return j;
+  }
+  /// Lines that [b, e) evaluates, arrays multiplied out, saturating just above the work limit.
+  static std::uint64_t cost(const std::vector<Line>& lines, std::size_t b, std::size_t e) {
+    const std::uint64_t cap = limits::kMaxMgfWork + 1;
+    std::uint64_t c = 0;
+    for (std::size_t i = b; i < e && c < cap; ++i) {
+      ++c;
+      const Line& l = lines[i];
+      auto arr = std::find(l.tok.begin(), l.tok.end(), "-a");
+      if (l.tok[0] != "xf" || arr == l.tok.end() || arr + 1 == l.tok.end()) continue;
+      std::size_t j = closing(lines, i, e);
+      double n = std::strtod((arr + 1)->c_str(), nullptr);
+      n = std::isfinite(n) ? std::clamp(n, 1.0, double(cap)) : 1.0;  // run() refuses bad counts itself
+      c += std::min<std::uint64_t>(cap, std::uint64_t(n) * cost(lines, i + 1, std::min(j, e)));
+      i = j;
+    }
+    return std::min(c, cap);
+  }
+
   // ---- vertices ---------------------------------------------------------------------------------
   /// The grammar v, c and m share: "kind" alone resets the unnamed context, "kind id" selects a
   /// defined one, "kind id = [template]" (re)defines one, from the template or from scratch.
@@ -269,7 +347,7 @@ class MgfReader {
     }
     const std::string& id = l.tok[1];
     if (l.tok.size() == 2) {
-      if (!named.count(id)) fail(l, std::string("undefined ") + what + " \"" + id + "\"");
+      if (!named.count(id)) fail(l, std::string("undefined ") + what + " " + echo(id));
       current = id;
       return Context::Selected;
     }
@@ -277,7 +355,7 @@ class MgfReader {
     T v{};
     if (l.tok.size() == 4) {
       auto it = named.find(l.tok[3]);
-      if (it == named.end()) fail(l, std::string("undefined template ") + what + " \"" + l.tok[3] + "\"");
+      if (it == named.end()) fail(l, std::string("undefined template ") + what + " " + echo(l.tok[3]));
       v = it->second;
     }
     named[id] = v;
@@ -289,7 +367,7 @@ class MgfReader {
   const Vertex& named(const Line& l, std::size_t i) const {
     if (i >= l.tok.size()) fail(l, "missing vertex argument");
     auto it = vertices_.find(l.tok[i]);
-    if (it == vertices_.end()) fail(l, "undefined vertex \"" + l.tok[i] + "\"");
+    if (it == vertices_.end()) fail(l, "undefined vertex " + echo(l.tok[i]));
     return it->second;
   }
 
@@ -305,7 +383,8 @@ class MgfReader {
     if (k == "cxy") {
       arity(l, 2, 2);
       c.x = num(l, 1), c.y = num(l, 2);
-      if (!(c.x >= 0.0 && c.y > 0.0 && c.x + c.y <= 1.0)) fail(l, "chromaticity outside the CIE triangle");
+      if (!(c.x >= 0.0 && c.y >= kMinChromaY && c.x + c.y <= 1.0))
+        fail(l, "chromaticity outside the CIE triangle (x >= 0, y >= 0.001, x + y <= 1)");
     } else if (k == "cct") {
       arity(l, 1, 1);
       c = planckian(l, num(l, 1));
@@ -313,27 +392,28 @@ class MgfReader {
       if (l.tok.size() < 3 || (l.tok.size() - 1) % 2 != 0) fail(l, "expected: cmix w1 c1 w2 c2 ...");
       double X = 0, Y = 0, Z = 0;
       for (std::size_t i = 1; i + 1 < l.tok.size(); i += 2) {
-        double w = num(l, i);
+        double w = bounded(l, i, limits::Range{"weight", 0.0, 1e30});
         auto it = colours_.find(l.tok[i + 1]);
-        if (it == colours_.end()) fail(l, "undefined colour \"" + l.tok[i + 1] + "\"");
+        if (it == colours_.end()) fail(l, "undefined colour " + echo(l.tok[i + 1]));
         const Colour& m = it->second;
         X += w * m.x / m.y, Y += w, Z += w * (1.0 - m.x - m.y) / m.y;
       }
-      if (!(X + Y + Z > 0.0)) fail(l, "weights sum to nothing");
+      if (!(X + Y + Z > 0.0) || !std::isfinite(X + Y + Z)) fail(l, "weights sum to nothing");
       c.x = X / (X + Y + Z), c.y = Y / (X + Y + Z);
+      if (!(c.y >= kMinChromaY)) fail(l, "the mixture's chromaticity y is below 0.001");
     } else {  // cspec l_min l_max v1 v2 ...: a relative spectrum, equally spaced samples
       if (l.tok.size() < 5) fail(l, "expected: cspec l_min l_max v1 v2 ...");
       double lo = num(l, 1), hi = num(l, 2);
       if (!(lo >= 300.0 && hi > lo && hi <= 900.0)) fail(l, "wavelength range outside 300-900 nm or empty");
       std::vector<double> v;
       for (std::size_t i = 3; i < l.tok.size(); ++i) {
-        v.push_back(num(l, i));
-        if (v.back() < 0.0) fail(l, "negative spectral value");
+        v.push_back(bounded(l, i, limits::Range{"spectral value", 0.0, 1e30}));
       }
       Vec3 XYZ = spectrumToXyz(lo, hi, v);
       double sum = XYZ.x + XYZ.y + XYZ.z;
-      if (!(sum > 0.0) || !(XYZ.y > 0.0)) fail(l, "the spectrum has no visible energy");
+      if (!(sum > 0.0) || !(XYZ.y > 0.0) || !std::isfinite(sum)) fail(l, "the spectrum has no visible energy");
       c.x = XYZ.x / sum, c.y = XYZ.y / sum;
+      if (!(c.y >= kMinChromaY)) fail(l, "the spectrum's chromaticity y is below 0.001");
       ++spectra_;
     }
     colour() = c;
@@ -408,19 +488,18 @@ class MgfReader {
       m.td = fraction(1), m.ctd = colour();
     } else if (k == "ed") {
       arity(l, 1, 1);
-      m.ed = num(l, 1), m.ced = colour();
-      if (m.ed < 0.0) fail(l, "negative emission");
+      // ed is luminous exitance, lm/m^2: the limit is the radiance limit for white light.
+      m.ed = bounded(l, 1, limits::Range{"ed", 0.0, limits::kEmission.hi * kWhiteEfficacy * kPi}), m.ced = colour();
     } else if (k == "rs") {
       arity(l, 2, 2);
-      m.rs = fraction(1), m.rsAlpha = num(l, 2), m.crs = colour();
-      if (m.rsAlpha < 0.0) fail(l, "negative roughness");
+      m.rs = fraction(1), m.rsAlpha = bounded(l, 2, limits::Range{"roughness", 0.0, 1e6}), m.crs = colour();
     } else {  // ts
       arity(l, 2, 2);
-      m.ts = fraction(1), m.tsAlpha = num(l, 2), m.cts = colour();
+      m.ts = fraction(1), m.tsAlpha = bounded(l, 2, limits::Range{"roughness", 0.0, 1e6}), m.cts = colour();
     }
   }
   /// The scene material for the current MGF material, made on first use of each version.
-  std::string snapshot() {
+  std::string snapshot(const Line& l) {
     const std::string name = curMaterial_.empty() ? "(unnamed)" : curMaterial_;
     const MgfMaterial& m = material();
     const std::string base = stem() + ":" + name;
@@ -457,6 +536,13 @@ class MgfReader {
       out.diffuse /= worst, out.specular /= worst;
       scaled_.insert(name);
     }
+    // Colour conversion of a saturated chromaticity can exceed the luminance it started from: the
+    // material that results must still be finite and inside the limits table.
+    for (int c = 0; c < 3; ++c) {
+      if (!limits::within(out.emission[c], limits::kEmission))
+        fail(l, "material " + echo(name) + ": emitted radiance " + fmt(out.emission[c]) + " outside " + limits::kEmission.text());
+      if (!std::isfinite(out.diffuse[c]) || !std::isfinite(out.specular[c])) fail(l, "material " + echo(name) + ": non-finite colour");
+    }
     if (clipped) clipped_.insert(name);
     if (m.td + m.ts > 0.0) {
       transmissive_.insert(name);
@@ -488,16 +574,26 @@ class MgfReader {
     Object o;
     o.type = t;
     o.where = where_ + paths_.back() + ": line " + std::to_string(l.number);
-    o.material = snapshot();
+    o.material = snapshot(l);
     o.transform.explicitMatrix = current();
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite((*o.transform.explicitMatrix)[c][r])) fail(l, "the transform overflows");
     for (const auto& g : groups_) o.group += (o.group.empty() ? "" : "/") + g;
     return o;
   }
   /// Surfaces are one-sided in the core (front by MGF's right-hand rule). A two-sided MGF surface
   /// (sides 2, the default) is kept one-sided, as RenderPark does by default: a back-to-back copy
   /// would coincide with it, and rays cannot tell coincident faces apart.
-  void add(const Object& o, bool open) {
+  void add(const Line& l, const Object& o, bool open) {
     if (open && material().sides == 2) ++twoSided_;
+    push(l, o);
+  }
+  /// Every object the reader makes goes through here: the count is bounded.
+  void push(const Line& l, const Object& o) {
+    if (scene_.objects.size() >= limits::kMaxObjects)
+      fail(l, "more than " + std::to_string(limits::kMaxObjects) + " objects (the documented limit)");
+    work(l, 1);
     scene_.objects.push_back(o);
   }
   void geometry(const Line& l) {
@@ -505,38 +601,43 @@ class MgfReader {
     ++scene_.entityCounts["mgf " + k];
     if (k == "f") {
       if (l.tok.size() < 4) fail(l, "a face needs at least 3 vertices");
+      if (l.tok.size() - 1 > limits::kMaxFaceVertices)
+        fail(l, "a face of " + std::to_string(l.tok.size() - 1) + " vertices, more than the limit of " +
+                    std::to_string(limits::kMaxFaceVertices));
       Object o = start(l, PrimitiveType::Polygon);
       for (std::size_t i = 1; i < l.tok.size(); ++i) o.points.push_back(named(l, i).p);
-      add(o, true);
+      add(l, o, true);
     } else if (k == "sph") {
       arity(l, 2, 2);
       Object o = start(l, PrimitiveType::Sphere);
       o.center = named(l, 1).p;
-      double r = num(l, 2);
+      double r = bounded(l, 2, limits::Range{"radius", -limits::kLength.hi, limits::kLength.hi});
       if (r == 0.0) fail(l, "zero radius");
       o.radius = std::abs(r), o.inward = r < 0.0;
-      add(o, false);
+      add(l, o, false);
     } else if (k == "cyl" || k == "cone") {
       bool cyl = k == "cyl";
       arity(l, cyl ? 3 : 4, cyl ? 3 : 4);
       Vec3 a = named(l, 1).p, b = named(l, 3).p;
-      double r0 = num(l, 2), r1 = cyl ? r0 : num(l, 4);
+      const limits::Range radius{"radius", -limits::kLength.hi, limits::kLength.hi};
+      double r0 = bounded(l, 2, radius), r1 = cyl ? r0 : bounded(l, 4, radius);
       if (r0 == 0.0 && r1 == 0.0) fail(l, "both radii are zero");
       if (r0 * r1 < 0.0) fail(l, "radii of opposite signs");
       if (glm::length(b - a) == 0.0) fail(l, "the two end vertices coincide");
       Object o = start(l, cyl ? PrimitiveType::Cylinder : PrimitiveType::Cone);
       o.base = a, o.axis = glm::normalize(b - a), o.height = glm::length(b - a);
       o.radius = std::abs(r0), o.radius2 = std::abs(r1), o.inward = r0 < 0.0 || r1 < 0.0;
-      add(o, true);
+      add(l, o, true);
     } else if (k == "ring") {
       arity(l, 3, 3);
       const Vertex& c = named(l, 1);
       if (glm::length(c.n) == 0.0) fail(l, "the centre vertex needs a normal (n)");
-      double r0 = std::abs(num(l, 2)), r1 = std::abs(num(l, 3));
+      const limits::Range radius{"radius", -limits::kLength.hi, limits::kLength.hi};
+      double r0 = std::abs(bounded(l, 2, radius)), r1 = std::abs(bounded(l, 3, radius));
       if (r0 == r1) fail(l, "equal radii: zero area");
       Object o = start(l, PrimitiveType::Ring);
       o.center = c.p, o.normal = glm::normalize(c.n), o.radius = std::min(r0, r1), o.radius2 = std::max(r0, r1);
-      add(o, true);
+      add(l, o, true);
     } else if (k == "torus") {
       arity(l, 3, 3);
       torus(l);
@@ -549,7 +650,8 @@ class MgfReader {
   void torus(const Line& l) {
     const Vertex& c = named(l, 1);
     if (glm::length(c.n) == 0.0) fail(l, "the centre vertex needs a normal (n)");
-    double a = num(l, 2), b = num(l, 3);
+    const limits::Range radius{"radius", -limits::kLength.hi, limits::kLength.hi};
+    double a = bounded(l, 2, radius), b = bounded(l, 3, radius);
     if (a * b < 0.0) fail(l, "radii of opposite signs");
     double r0 = std::abs(a), r1 = std::abs(b);
     if (r0 >= r1) fail(l, "the inner radius must be smaller than the outer one");
@@ -568,13 +670,16 @@ class MgfReader {
         Object o = start(l, PrimitiveType::Polygon);
         o.points = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
         if (inward) std::reverse(o.points.begin(), o.points.end());
-        scene_.objects.push_back(o);
+        push(l, o);
       }
   }
   /// A closed prism: the polygon, its copy moved len along the polygon's normal, and the sides.
   void prism(const Line& l) {
     if (l.tok.size() < 5) fail(l, "expected: prism v1 v2 v3 ... len");
-    double len = num(l, l.tok.size() - 1);
+    if (l.tok.size() - 2 > limits::kMaxFaceVertices)
+      fail(l, "a prism base of " + std::to_string(l.tok.size() - 2) + " vertices, more than the limit of " +
+                  std::to_string(limits::kMaxFaceVertices));
+    double len = bounded(l, l.tok.size() - 1, limits::Range{"length", -limits::kLength.hi, limits::kLength.hi});
     if (len == 0.0) fail(l, "zero length");
     std::vector<Vec3> base;
     for (std::size_t i = 1; i + 1 < l.tok.size(); ++i) base.push_back(named(l, i).p);
@@ -587,7 +692,7 @@ class MgfReader {
       if (flip) std::reverse(pts.begin(), pts.end());
       Object o = start(l, PrimitiveType::Polygon);
       o.points = std::move(pts);
-      scene_.objects.push_back(o);
+      push(l, o);
     };
     std::vector<Vec3> top, bottom(base.rbegin(), base.rend());
     for (const Vec3& p : base) top.push_back(p + d);
@@ -618,6 +723,7 @@ class MgfReader {
   std::map<std::pair<std::string, int>, std::string> snapshots_;  // (material, version) -> scene material
   std::map<std::string, std::vector<std::string>> variants_;      // distinct definitions per material
   double maxTransmitted_ = 0.0;
+  std::uint64_t work_ = 0;
   std::size_t spectra_ = 0, ignored_ = 0, twoSided_ = 0;
 };
 
@@ -641,6 +747,12 @@ Rgb cieToRgb(double x, double y, double Y) { return glm::max(cieToRgbUnclipped(x
 void readMgf(const std::string& path, Scene& scene, const glm::dmat4& xf, const std::string& where) {
   MgfReader r(scene, xf, where);
   r.readFile(path, glm::dmat4(1.0));
+  r.finish();
+}
+
+void parseMgf(const std::string& text, const std::string& path, Scene& scene) {
+  MgfReader r(scene, glm::dmat4(1.0), "");
+  r.readText(text, path, glm::dmat4(1.0));
   r.finish();
 }
 

@@ -1,7 +1,9 @@
 // Gathering along links, and push/pull. Gathering is parallel over receivers. Push/pull walks the
 // cluster tree in parallel over subtrees: each cluster's links' normal irradiance travels down as a
 // chain of link ranges (no copies), each element subtree takes its irradiance with its own cosine,
-// radiosity is pulled up the quadtrees and cluster intensity tables are summed bottom-up.
+// radiosity is pulled up the quadtrees and cluster intensity tables are summed bottom-up. With an
+// extension, the same traversal carries Illumination Samples down subtrees it simulates and calls
+// the reflection and pull hooks (its light adds to the host's; the host's own values are unchanged).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -18,6 +20,7 @@ void gatherLinks(SolverState& s) {
   if (s.groupStart.size() < 2) return;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.groupStart.size() - 1, 16), [&](const auto& r) {
     s.clkGather.sawThread();
+    std::vector<IncidentSample> samples;
     for (std::size_t g = r.begin(); g != r.end(); ++g) {
       Rgb sum(0.0);
       NodeId recv = s.links[s.groupStart[g]].receiver;
@@ -28,6 +31,13 @@ void gatherLinks(SolverState& s) {
         sum += e;
       }
       if (!recv.isCluster()) s.Eg[recv.index()] = sum;
+      // Link gather hook: the receiver's Illumination Samples, for subtrees the extension simulates.
+      if (s.ext && s.isOwned(recv)) {
+        samples.clear();
+        for (std::uint32_t i = s.groupStart[g]; i < s.groupStart[g + 1]; ++i)
+          samples.push_back({Vec3(s.links[i].dir), Rgb(s.links[i].E)});
+        s.ext->gather(recv, samples);
+      }
     }
   });
 }
@@ -79,6 +89,7 @@ class PushPull {
   static constexpr std::uint32_t kSerialPatches = 512;
 
   explicit PushPull(SolverState& s) : s_(s) {
+    if (s.ext) indexElementLinks();
     // Each cluster's links, packed once (links are grouped by receiver); links that brought no light
     // are left out.
     samples_.assign(s.h.clusters().size(), {});
@@ -106,27 +117,64 @@ class PushPull {
     cluster(0, none);
   }
 
+  /// Element receivers' link ranges, for the samples of subtrees the extension simulates.
+  void indexElementLinks() {
+    elemRange_.assign(s_.h.elements().size(), {0, 0});
+    for (std::size_t g = 0; g + 1 < s_.groupStart.size(); ++g) {
+      NodeId r = s_.links[s_.groupStart[g]].receiver;
+      if (!r.isCluster()) elemRange_[r.index()] = {s_.groupStart[g], s_.groupStart[g + 1]};
+    }
+  }
+
  private:
-  /// Pushes irradiance down an element subtree and pulls radiosity up; returns area * B.
-  Rgb element(std::uint32_t e, const Rgb& down) {
+  /// Pushes irradiance down an element subtree and pulls radiosity up; returns area * B. In a
+  /// subtree the extension simulates, `samples` carries the Illumination Samples that reached the
+  /// element from above (on its plane): the element adds its own links' samples, a leaf is
+  /// reflected, an inner element pulled after its children (one traversal for all of them).
+  Rgb element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
     Rgb total = down + s_.Eg[e];
     const Element& el = s_.h.element(e);
     s_.Et[e] = total;
+    const std::size_t mark = samples ? samples->size() : 0;
+    if (samples)
+      for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
+        if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
+    Rgb result;
     if (el.leaf()) {
       s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
       s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
-      return s_.B[e] * el.area;
+      if (samples) s_.ext->reflect(NodeId{e}, *samples);
+      result = s_.B[e] * el.area;
+    } else {
+      Rgb sum(0.0);
+      float lo = std::numeric_limits<float>::max(), hi = 0.0f;
+      for (std::uint32_t k = 0; k < 4; ++k) {
+        sum += element(el.firstChild + k, total, samples);
+        lo = std::min(lo, s_.Bmin[el.firstChild + k]);
+        hi = std::max(hi, s_.Bmax[el.firstChild + k]);
+      }
+      s_.B[e] = sum / el.area;
+      s_.Bmin[e] = lo, s_.Bmax[e] = hi;
+      if (samples) s_.ext->pull(NodeId{e}, s_.h.children(NodeId{e}));
+      result = sum;
     }
-    Rgb sum(0.0);
-    float lo = std::numeric_limits<float>::max(), hi = 0.0f;
-    for (std::uint32_t k = 0; k < 4; ++k) {
-      sum += element(el.firstChild + k, total);
-      lo = std::min(lo, s_.Bmin[el.firstChild + k]);
-      hi = std::max(hi, s_.Bmax[el.firstChild + k]);
+    if (samples) samples->resize(mark);
+    return result;
+  }
+
+  /// The chain's samples on a plane with normal n (E_perp max(0, n.w)), to start a simulated
+  /// patch's sample list.
+  static void chainSamples(const SampleChain& chain, const Vec3& n, std::vector<IncidentSample>& out) {
+    for (const SampleChain* c = &chain; c; c = c->parent) {
+      if (!c->here) continue;
+      const ClusterSamples& cs = *c->here;
+      for (std::size_t i = 0; i < cs.dx.size(); ++i) {
+        Vec3 w(cs.dx[i], cs.dy[i], cs.dz[i]);
+        double cosine = glm::dot(n, w);
+        Rgb e(cs.er[i], cs.eg[i], cs.eb[i]);
+        if (cosine > 0.0 && maxComponent(e) > 0.0) out.push_back({w, e * cosine});
+      }
     }
-    s_.B[e] = sum / el.area;
-    s_.Bmin[e] = lo, s_.Bmax[e] = hi;
-    return sum;
   }
 
   /// Irradiance on a plane with normal n from every sample in the chain: sum of E_perp max(0, n.w).
@@ -163,7 +211,14 @@ class PushPull {
         cluster(kid.index(), here);
         return;
       }
-      element(kid.index(), irradianceFrom(here, s_.h.element(kid.index()).normal));
+      const Vec3& n = s_.h.element(kid.index()).normal;
+      if (s_.ext && s_.owned[kid.index()]) {
+        std::vector<IncidentSample> samples;
+        chainSamples(here, n, samples);
+        element(kid.index(), irradianceFrom(here, n), &samples);
+      } else {
+        element(kid.index(), irradianceFrom(here, n), nullptr);
+      }
     };
     // Tasks for large subtrees only: a task per small cluster cost more than its work.
     if (cl.patchEnd - cl.patchBegin > kSerialPatches) {
@@ -178,6 +233,7 @@ class PushPull {
       exactPeak(c);
     else
       tablePull(c);
+    if (s_.ext && s_.clusterOwned[c]) s_.ext->pull(NodeId{c | NodeId::kClusterBit}, cl.children);
   }
 
   /// A large cluster's table: its child clusters' tables (or, for those evaluated exactly, their
@@ -230,6 +286,7 @@ class PushPull {
 
   SolverState& s_;
   std::vector<ClusterSamples> samples_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> elemRange_;  // element receivers' links
 };
 
 }  // namespace

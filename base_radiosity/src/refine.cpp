@@ -20,18 +20,83 @@ bool canSplit(const SolverState& s, NodeId n) {
   return e.level < static_cast<std::uint32_t>(s.opt.maxLevel) && e.area * 0.25 >= s.minArea;
 }
 
-/// The sender's value toward the receiver, or a cluster's peak intensity if that is more (luminance).
-double senderBound(const SolverState& s, const Link& l) {
+/// An intensity I (W/sr) of the sender in the unit links use: itself for a cluster, for an element
+/// the radiosity-equivalent pi L = pi I / (A cos), the cosine of the centre direction kept away from
+/// zero: a bound for the oracle, not for the transfer (the paper's bounds are not conservative either
+/// once exitant light is approximate, §3.1).
+double senderUnit(const SolverState& s, const Link& l, double I) {
+  if (l.sender.isCluster() || I <= 0.0) return I;
+  const Element& e = s.h.element(l.sender.index());
+  return kPi * I / (e.area * std::max(glm::dot(e.normal, -Vec3(l.dir)), 0.1));
+}
+
+/// The extension's share of a sender's light, bounded over the cone of directions from the sender
+/// toward the receiver's bounding sphere (luminance, in the sender's unit: radiosity-equivalent
+/// W/m^2 for elements, W/sr for clusters). This is how the spot a glossy reflector throws on a wall
+/// gets refined: the intensity toward the wall's centre may miss the highlight. The whole-sphere
+/// bound is tried first and the cone only when that would split (the cone costs microseconds).
+/// The extension's bound over the cone toward the receiver (or the whole sphere), W/sr (luminance).
+double extensionBoundRaw(const SolverState& s, const Link& l, bool wholeSphere = false) {
+  const Vec3 axis = -Vec3(l.dir);
+  double d = glm::length(s.h.center(l.sender) - s.h.center(l.receiver));
+  double sinHalf = d > 0.0 ? (s.h.radius(l.sender) + s.h.radius(l.receiver)) / d : 2.0;
+  double cosHalf = wholeSphere || sinHalf >= 1.0 ? -1.0 : std::sqrt(1.0 - sinHalf * sinHalf);
+  return luminance(s.ext->intensityBound(l.sender, axis, cosHalf));
+}
+
+double extensionBound(const SolverState& s, const Link& l, bool wholeSphere) {
+  return senderUnit(s, l, extensionBoundRaw(s, l, wholeSphere));
+}
+
+/// How much the extension's share varies over the receiver, in the sender's unit: from the largest
+/// of the cone's bound and the values toward the receiver's centre and corners to the smallest of
+/// those values.
+double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere) {
+  // The cheap pass: the whole sphere's peak bounds any variation (no direction is looked at).
+  if (wholeSphere) return extensionBound(s, l, true);
+  const Vec3 from = s.h.center(l.sender);
+  auto toward = [&](const Vec3& p) {
+    Vec3 d = p - from;
+    double len = glm::length(d);
+    return len > 0.0 ? luminance(s.ext->intensity(l.sender, d / len)) : 0.0;
+  };
+  double lo = toward(s.h.center(l.receiver)), hi = lo;
+  auto visit = [&](const Vec3& p) {
+    double v = toward(p);
+    lo = std::min(lo, v), hi = std::max(hi, v);
+  };
+  if (l.receiver.isCluster()) {
+    const Aabb& b = s.h.cluster(l.receiver.index()).bounds;
+    for (int k = 0; k < 8; ++k) visit(Vec3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z));
+  } else {
+    const Element& r = s.h.element(l.receiver.index());
+    for (int k = 0; k < r.poly.n; ++k) visit(r.poly.v[k]);
+  }
+  return senderUnit(s, l, std::max(hi, extensionBoundRaw(s, l))) - senderUnit(s, l, lo);
+}
+
+/// The sender's value toward the receiver, or a cluster's peak intensity if that is more, plus the
+/// extension's bound when it simulates part of the sender (luminance).
+double senderBound(const SolverState& s, const Link& l, bool wholeSphere) {
   double S = luminance(s.senderValue(l));
-  return l.sender.isCluster() ? std::max(S, s.peak[l.sender.index()]) : S;
+  if (l.sender.isCluster()) S = std::max(S, s.peak[l.sender.index()]);
+  if (s.ext && s.isOwned(l.sender)) S += extensionBound(s, l, wholeSphere);
+  return S;
 }
 
 /// The oracle, part one: how much of the power the link brings may land in the wrong place on its
 /// receiver, W (luminance): the receiver's area times the sender's value times the transfer bound
 /// times its relative spread over the receiver. Compared with eps * emitted power.
-double placementError(const SolverState& s, const Link& l) {
+double placementError(const SolverState& s, const Link& l, bool wholeSphere) {
   double uncertainty = std::max<double>(l.spread, l.geom);
-  return catchingArea(s, l) * senderBound(s, l) * l.bound * uncertainty;
+  double S = senderBound(s, l, wholeSphere) * uncertainty;
+  // A directional sender may be much brighter toward part of the receiver than toward another (a
+  // highlight landing on a wall): the link gives the whole receiver its value toward the centre, so
+  // that variation is misplaced light too, and it is measured both ways: up to the cone's bound, and
+  // down to the dimmest of the receiver's corners (a receiver centred on a highlight got the peak
+  // over all of it, 26 % too much light in a three-lights spot).
+  if (s.ext && s.isOwned(l.sender)) S += extensionVariation(s, l, wholeSphere);
+  return catchingArea(s, l) * S * l.bound;
 }
 
 /// Part two: how far the power the link moves may be off, W. Two sources:
@@ -44,12 +109,12 @@ double placementError(const SolverState& s, const Link& l) {
 ///   emitted power. Dark links cost nothing here, so dark neighbourhoods stay coarse.
 /// Such errors are lost or created energy, not misplaced light, so they are held to kPowerTolerance
 /// of the emitted power even when eps is coarser (decide).
-double powerError(const SolverState& s, const Link& l) {
+double powerError(const SolverState& s, const Link& l, bool wholeSphere) {
   if (l.sender.isCluster() || l.receiver.isCluster()) {
     // With the sender's peak intensity: the model may get the direction wrong (a ceiling seen from a
     // lamp 1 mm below it, but above the ceiling's cluster centre, got nothing from it).
     double g = double(l.geom);
-    return catchingArea(s, l) * senderBound(s, l) * l.bound * g * g;
+    return catchingArea(s, l) * senderBound(s, l, wholeSphere) * l.bound * g * g;
   }
   if (s.h.element(l.sender.index()).leaf()) return 0.0;
   return s.h.area(l.receiver) * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
@@ -65,8 +130,11 @@ Action decide(const SolverState& s, const Link& l, double threshold) {
   bool cs = canSplit(s, l.sender), cr = canSplit(s, l.receiver);
   // Visibility still uncertain after all the rays a link may take (transfer.cpp): split it too.
   bool sureOfVisibility = l.vsigma == 0.0f || unoccludedPower(s, l) * l.vsigma <= visibilityTolerance(s);
-  if ((cs || cr) && (!sureOfVisibility || powerError(s, l) > powerThreshold ||
-                     placementError(s, l) > threshold)) {
+  auto tooLarge = [&](bool wholeSphere) {
+    return powerError(s, l, wholeSphere) > powerThreshold || placementError(s, l, wholeSphere) > threshold;
+  };
+  const bool glossy = s.ext && s.isOwned(l.sender);
+  if ((cs || cr) && (!sureOfVisibility || (tooLarge(true) && (!glossy || tooLarge(false))))) {
     // The larger node is split.
     bool splitSender = cs && (!cr || s.h.radius(l.sender) > s.h.radius(l.receiver));
     return splitSender ? Action::SplitSender : Action::SplitReceiver;

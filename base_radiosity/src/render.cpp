@@ -2,6 +2,7 @@
 // display hook (default: smooth diffuse reconstruction). The same per-leaf radiance drives the
 // interactive viewer, so images and walkthroughs agree.
 #include <hr/camera.h>
+#include <hr/extension_display.h>
 #include <hr/output.h>
 #include <hr/visibility.h>
 #include <tbb/parallel_for.h>
@@ -47,6 +48,16 @@ Image render(const Solution& s, const Camera& cam, const DisplayFn& display, int
     }
   });
   return img;
+}
+
+Image render(const Solution& s, const Camera& cam, const Extension* ext) {
+  if (!ext) return render(s, cam);
+  // The host's smooth B / pi plus the extension's share, smooth per display vertex toward this eye.
+  ExtensionDisplay display(s, *ext);
+  display.update(cam.eye);
+  return render(s, cam, [&](std::uint32_t leaf, const Vec3& x, const Vec3&) {
+    return interpolate(s, leaf, x) / kPi + display.radiance(leaf, x);
+  });
 }
 
 }  // namespace hr

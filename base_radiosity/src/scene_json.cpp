@@ -1,5 +1,8 @@
 // JSON scene reader. Validation lives here so that every later stage can trust the scene: each
 // error names the file and the JSON path of the offending key; unknown keys become warnings.
+#include <hr/echo.h>
+#include <hr/input_file.h>
+#include <hr/limits.h>
 #include <hr/mgf.h>
 #include <hr/scene.h>
 
@@ -13,6 +16,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "json_strict.h"
 
 namespace hr {
 namespace {
@@ -31,7 +36,7 @@ class Reader {
     std::set<std::string> k(known.begin(), known.end());
     for (auto it = obj.begin(); it != obj.end(); ++it)
       if (!k.count(it.key()))
-        scene_.warnings.push_back(file_ + ": " + key + ": unknown key \"" + it.key() + "\" ignored");
+        scene_.warnings.push_back(file_ + ": " + key + ": unknown key " + echo(it.key()) + " ignored");
   }
 
   const json& member(const json& obj, const std::string& key, const char* name) const {
@@ -46,16 +51,22 @@ class Reader {
     return d;
   }
 
-  Vec3 vec3(const json& v, const std::string& key) const {
-    if (!v.is_array() || v.size() != 3) fail(key, "expected an array of 3 numbers");
-    return {number(v[0], key + "[0]"), number(v[1], key + "[1]"), number(v[2], key + "[2]")};
+  /// A number inside a range of the limits table (README "Limits").
+  double bounded(const json& v, const std::string& key, const limits::Range& r) const {
+    double d = number(v, key);
+    if (!r.contains(d)) fail(key, "value " + fmt(d) + " outside the allowed range " + r.text());
+    return d;
   }
 
-  Rgb colour(const json& obj, const std::string& key, const char* name) const {
+  /// Three numbers, each inside r (coordinates by default: every point a ray must reach).
+  Vec3 vec3(const json& v, const std::string& key, const limits::Range& r = limits::kCoordinate) const {
+    if (!v.is_array() || v.size() != 3) fail(key, "expected an array of 3 numbers");
+    return {bounded(v[0], key + "[0]", r), bounded(v[1], key + "[1]", r), bounded(v[2], key + "[2]", r)};
+  }
+
+  Rgb colour(const json& obj, const std::string& key, const char* name, const limits::Range& r) const {
     if (!obj.contains(name)) return Rgb(0.0);
-    Rgb c = vec3(obj.at(name), key + "." + name);
-    for (int i = 0; i < 3; ++i)
-      if (c[i] < 0.0) fail(key + "." + name, "negative value " + std::to_string(c[i]));
+    Rgb c = vec3(obj.at(name), key + "." + name, r);
     return c;
   }
 
@@ -64,11 +75,16 @@ class Reader {
     return v.get<std::string>();
   }
 
-  int integer(const json& v, const std::string& key, int lo, int hi) const {
+  int integer(const json& v, const std::string& key, const limits::Range& r) const {
     double d = number(v, key);
-    if (d != std::floor(d) || d < lo || d > hi)
-      fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (d != std::floor(d) || !r.contains(d)) fail(key, "expected an integer in " + r.text() + ", got " + fmt(d));
     return static_cast<int>(d);
+  }
+
+  static std::string fmt(double d) {
+    std::ostringstream s;
+    s << d;
+    return s.str();
   }
 
   const std::string& file() const { return file_; }
@@ -81,19 +97,18 @@ class Reader {
 void readMaterials(Reader& r, const json& mats, Scene& s) {
   if (!mats.is_object()) r.fail("materials", "expected an object of name -> material");
   for (auto it = mats.begin(); it != mats.end(); ++it) {
-    const std::string key = "materials." + it.key();
+    const std::string key = "materials." + it.key().substr(0, limits::kMaxEcho);
+    // An empty name could never be referenced (an object's empty "material" means "none").
+    if (it.key().empty()) r.fail("materials", "a material name must not be empty");
     const json& m = it.value();
     if (!m.is_object()) r.fail(key, "expected an object");
     r.checkKeys(m, key, {"diffuse", "specular", "exponent", "emission"});
     Material mat;
     mat.name = it.key();
-    mat.diffuse = r.colour(m, key, "diffuse");
-    mat.specular = r.colour(m, key, "specular");
-    mat.emission = r.colour(m, key, "emission");
-    if (m.contains("exponent")) {
-      mat.exponent = r.number(m.at("exponent"), key + ".exponent");
-      if (mat.exponent < 0.0) r.fail(key + ".exponent", "must be >= 0");
-    }
+    mat.diffuse = r.colour(m, key, "diffuse", limits::kReflectance);
+    mat.specular = r.colour(m, key, "specular", limits::kReflectance);
+    mat.emission = r.colour(m, key, "emission", limits::kEmission);
+    if (m.contains("exponent")) mat.exponent = r.bounded(m.at("exponent"), key + ".exponent", limits::kExponent);
     for (int c = 0; c < 3; ++c)
       if (mat.diffuse[c] + mat.specular[c] > 1.0)
         r.fail(key, "diffuse + specular = " + std::to_string(mat.diffuse[c] + mat.specular[c]) +
@@ -108,18 +123,21 @@ Transform readTransform(Reader& r, const json& t, const std::string& key) {
   r.checkKeys(t, key, {"translate", "rotate_deg", "scale"});
   Transform x;
   if (t.contains("translate")) x.translate = r.vec3(t["translate"], key + ".translate");
-  if (t.contains("rotate_deg")) x.rotateDeg = r.vec3(t["rotate_deg"], key + ".rotate_deg");
+  if (t.contains("rotate_deg")) x.rotateDeg = r.vec3(t["rotate_deg"], key + ".rotate_deg", limits::kAngleDeg);
   if (t.contains("scale")) {
     const json& sc = t["scale"];
-    x.scale = sc.is_number() ? Vec3(r.number(sc, key + ".scale")) : r.vec3(sc, key + ".scale");
+    x.scale = sc.is_number() ? Vec3(r.bounded(sc, key + ".scale", limits::kScale)) : r.vec3(sc, key + ".scale", limits::kScale);
     for (int i = 0; i < 3; ++i)
       if (x.scale[i] == 0.0) r.fail(key + ".scale", "zero scale makes every face degenerate");
   }
   return x;
 }
 
-void positive(Reader& r, double v, const std::string& key) {
-  if (!(v > 0.0)) r.fail(key, "must be > 0 (zero-size primitive)");
+/// A size: > 0 (else a zero-size primitive) and within the limits table.
+double size(Reader& r, const json& v, const std::string& key) {
+  double d = r.bounded(v, key, limits::kLength);
+  if (!(d > 0.0)) r.fail(key, "must be > 0 (zero-size primitive)");
+  return d;
 }
 
 Object readObject(Reader& r, const json& o, const std::string& key, const Scene& s,
@@ -132,8 +150,8 @@ Object readObject(Reader& r, const json& o, const std::string& key, const Scene&
     ob.material = r.string(o["material"], key + ".material");
     if (!s.materialIndex.count(ob.material)) {
       std::string known;
-      for (auto& [n, i] : s.materialIndex) known += (known.empty() ? "" : ", ") + n;
-      r.fail(key + ".material", "unknown material \"" + ob.material + "\" (defined: " + known + ")");
+      for (auto& [n, i] : s.materialIndex) known += (known.empty() ? "" : ", ") + echo(n);
+      r.fail(key + ".material", "unknown material " + echo(ob.material) + " (defined: " + clipMessage(known, 400) + ")");
     }
   } else if (type != "mesh") {
     r.fail(key, "missing required key \"material\"");
@@ -162,32 +180,27 @@ Object readObject(Reader& r, const json& o, const std::string& key, const Scene&
     ob.type = PrimitiveType::Disk;
     ob.center = r.vec3(r.member(o, key, "center"), key + ".center");
     ob.normal = r.vec3(r.member(o, key, "normal"), key + ".normal");
-    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
-    positive(r, ob.radius, key + ".radius");
+    ob.radius = size(r, r.member(o, key, "radius"), key + ".radius");
     if (glm::length(ob.normal) == 0.0) r.fail(key + ".normal", "zero-length normal");
   } else if (type == "sphere") {
     r.checkKeys(o, key, {"type", "material", "transform", "center", "radius"});
     ob.type = PrimitiveType::Sphere;
     ob.center = r.vec3(r.member(o, key, "center"), key + ".center");
-    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
-    positive(r, ob.radius, key + ".radius");
+    ob.radius = size(r, r.member(o, key, "radius"), key + ".radius");
   } else if (type == "cylinder") {
     r.checkKeys(o, key, {"type", "material", "transform", "base", "axis", "radius", "height"});
     ob.type = PrimitiveType::Cylinder;
     ob.base = r.vec3(r.member(o, key, "base"), key + ".base");
     ob.axis = r.vec3(r.member(o, key, "axis"), key + ".axis");
-    ob.radius = r.number(r.member(o, key, "radius"), key + ".radius");
-    ob.height = r.number(r.member(o, key, "height"), key + ".height");
-    positive(r, ob.radius, key + ".radius");
-    positive(r, ob.height, key + ".height");
+    ob.radius = size(r, r.member(o, key, "radius"), key + ".radius");
+    ob.height = size(r, r.member(o, key, "height"), key + ".height");
     if (glm::length(ob.axis) == 0.0) r.fail(key + ".axis", "zero-length axis");
   } else if (type == "mesh") {
     r.checkKeys(o, key, {"type", "material", "transform", "file"});
     ob.type = PrimitiveType::Mesh;
     ob.file = (dir / r.string(r.member(o, key, "file"), key + ".file")).string();
   } else {
-    r.fail(key + ".type",
-           "unknown object type \"" + type + "\" (valid: quad, box, disk, sphere, cylinder, mesh, mgf)");
+    r.fail(key + ".type", "unknown object type " + echo(type) + " (valid: quad, box, disk, sphere, cylinder, mesh, mgf)");
   }
   return ob;
 }
@@ -197,15 +210,19 @@ Camera readCamera(Reader& r, const json& c, const std::string& key) {
   r.checkKeys(c, key, {"name", "eye", "look_at", "up", "fov_y_deg", "width", "height"});
   Camera cam;
   cam.name = r.string(r.member(c, key, "name"), key + ".name");
-  if (cam.name.empty() || cam.name.find_first_of("/\\") != std::string::npos)
-    r.fail(key + ".name", "must be a non-empty file-name-safe string");
+  // The name becomes file names (<name>.exr): no separators, no control bytes, not hidden (a leading
+  // dot is where the output staging folder lives), and short enough for any file system.
+  bool safe = !cam.name.empty() && cam.name.size() <= 200 && cam.name[0] != '.' &&
+              std::none_of(cam.name.begin(), cam.name.end(), [](char ch) {
+                return ch == '/' || ch == '\\' || static_cast<unsigned char>(ch) < 0x20;
+              });
+  if (!safe) r.fail(key + ".name", "must be a file-name-safe string (1-200 characters, no '/', '\\', control bytes or leading '.'), got " + echo(cam.name));
   cam.eye = r.vec3(r.member(c, key, "eye"), key + ".eye");
   cam.lookAt = r.vec3(r.member(c, key, "look_at"), key + ".look_at");
   if (c.contains("up")) cam.up = r.vec3(c["up"], key + ".up");
-  if (c.contains("fov_y_deg")) cam.fovYDeg = r.number(c["fov_y_deg"], key + ".fov_y_deg");
-  if (!(cam.fovYDeg > 0.0 && cam.fovYDeg < 180.0)) r.fail(key + ".fov_y_deg", "must be in (0, 180)");
-  if (c.contains("width")) cam.width = r.integer(c["width"], key + ".width", 1, 16384);
-  if (c.contains("height")) cam.height = r.integer(c["height"], key + ".height", 1, 16384);
+  if (c.contains("fov_y_deg")) cam.fovYDeg = r.bounded(c["fov_y_deg"], key + ".fov_y_deg", limits::kFovDeg);
+  if (c.contains("width")) cam.width = r.integer(c["width"], key + ".width", limits::kImageSize);
+  if (c.contains("height")) cam.height = r.integer(c["height"], key + ".height", limits::kImageSize);
   Vec3 f = cam.lookAt - cam.eye;
   if (glm::length(f) == 0.0) r.fail(key, "eye and look_at coincide");
   if (glm::length(glm::cross(f, cam.up)) == 0.0) r.fail(key + ".up", "parallel to the view direction");
@@ -218,20 +235,16 @@ Settings readSettings(Reader& r, const json& j) {
               {"eps", "max_level", "min_area", "rays_per_link", "max_iterations", "tolerance",
                "tessellation", "seed"});
   Settings st;
-  if (j.contains("eps")) st.eps = r.number(j["eps"], "settings.eps");
-  if (!(st.eps > 0.0)) r.fail("settings.eps", "must be > 0");
-  if (j.contains("max_level")) st.maxLevel = r.integer(j["max_level"], "settings.max_level", 0, 20);
-  if (j.contains("min_area")) st.minArea = r.number(j["min_area"], "settings.min_area");
-  if (st.minArea < 0.0) r.fail("settings.min_area", "must be >= 0");
-  if (j.contains("rays_per_link"))
-    st.raysPerLink = r.integer(j["rays_per_link"], "settings.rays_per_link", 1, 256);
+  namespace L = limits;
+  if (j.contains("eps")) st.eps = r.bounded(j["eps"], "settings.eps", L::kEps);
+  if (j.contains("max_level")) st.maxLevel = r.integer(j["max_level"], "settings.max_level", L::kMaxLevel);
+  if (j.contains("min_area")) st.minArea = r.bounded(j["min_area"], "settings.min_area", L::kMinArea);
+  if (j.contains("rays_per_link")) st.raysPerLink = r.integer(j["rays_per_link"], "settings.rays_per_link", L::kRaysPerLink);
   if (j.contains("max_iterations"))
-    st.maxIterations = r.integer(j["max_iterations"], "settings.max_iterations", 1, 100000);
-  if (j.contains("tolerance")) st.tolerance = r.number(j["tolerance"], "settings.tolerance");
-  if (!(st.tolerance > 0.0)) r.fail("settings.tolerance", "must be > 0");
-  if (j.contains("tessellation"))
-    st.tessellation = r.integer(j["tessellation"], "settings.tessellation", 3, 1024);
-  if (j.contains("seed")) st.seed = static_cast<std::uint64_t>(r.integer(j["seed"], "settings.seed", 0, 2147483647));
+    st.maxIterations = r.integer(j["max_iterations"], "settings.max_iterations", L::kMaxIterations);
+  if (j.contains("tolerance")) st.tolerance = r.bounded(j["tolerance"], "settings.tolerance", L::kTolerance);
+  if (j.contains("tessellation")) st.tessellation = r.integer(j["tessellation"], "settings.tessellation", L::kTessellation);
+  if (j.contains("seed")) st.seed = static_cast<std::uint64_t>(r.integer(j["seed"], "settings.seed", L::kSeed));
   return st;
 }
 
@@ -241,16 +254,7 @@ Scene parseScene(const std::string& text, const std::string& path) {
   Scene s;
   s.path = path;
   s.name = path.empty() ? "default" : std::filesystem::path(path).stem().string();
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // nlohmann reports a byte offset; turn it into a line number, which is what an editor shows.
-    std::size_t line = 1 + static_cast<std::size_t>(
-                               std::count(text.begin(), text.begin() + std::min(e.byte, text.size()), '\n'));
-    throw InputError((path.empty() ? "<scene>" : path) + ": line " + std::to_string(line) +
-                     ": malformed JSON: " + e.what());
-  }
+  json j = parseStrictJson(text, path.empty() ? "<scene>" : path);
   Reader r(path.empty() ? "<scene>" : path, s);
   if (!j.is_object()) r.fail("(top level)", "expected a JSON object");
   r.checkKeys(j, "(top level)", {"materials", "objects", "cameras", "settings", "name"});
@@ -268,11 +272,16 @@ Scene parseScene(const std::string& text, const std::string& path) {
       std::string file = (dir / r.string(r.member(objs[i], key, "file"), key + ".file")).string();
       Transform t;
       if (objs[i].contains("transform")) t = readTransform(r, objs[i]["transform"], key + ".transform");
+      std::size_t before = s.objects.size();
       readMgf(file, s, t.matrix(), r.file() + ": " + key + ": ");
+      if (s.objects.size() == before) r.fail(key + ".file", file + " holds no geometry (an empty MGF file adds nothing)");
       continue;
     }
     s.objects.push_back(readObject(r, objs[i], key, s, dir));
   }
+  if (s.objects.size() > limits::kMaxObjects)
+    r.fail("objects", std::to_string(s.objects.size()) + " objects, more than the limit of " +
+                          std::to_string(limits::kMaxObjects));
   if (j.contains("cameras")) {
     const json& cams = j["cameras"];
     if (!cams.is_array()) r.fail("cameras", "expected an array");
@@ -280,7 +289,7 @@ Scene parseScene(const std::string& text, const std::string& path) {
     for (std::size_t i = 0; i < cams.size(); ++i) {
       Camera c = readCamera(r, cams[i], "cameras[" + std::to_string(i) + "]");
       if (!names.insert(c.name).second)
-        r.fail("cameras[" + std::to_string(i) + "].name", "duplicate camera name \"" + c.name + "\"");
+        r.fail("cameras[" + std::to_string(i) + "].name", "duplicate camera name " + echo(c.name));
       s.cameras.push_back(c);
     }
   }
@@ -290,11 +299,7 @@ Scene parseScene(const std::string& text, const std::string& path) {
 
 Scene loadScene(const std::string& path) {
   if (std::filesystem::path(path).extension() == ".mgf") return loadMgfScene(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseScene(ss.str(), path);
+  return parseScene(readInputFile(path, "scene file", limits::kMaxSceneBytes), path);
 }
 
 const char* primitiveName(PrimitiveType t) {

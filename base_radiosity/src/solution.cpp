@@ -85,8 +85,11 @@ std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) 
 }
 
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
+  return interpolateCorners(s, leaf, x, s.cornerRadiosity[leaf]);
+}
+
+Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& cv) {
   const auto& e = s.elements[leaf];
-  const auto& cv = s.cornerRadiosity[leaf];
   const Vec3& n = s.patches[e.patch].normal;
   auto bary = [&](const Vec3& a, const Vec3& b, const Vec3& c, double& u, double& v, double& w) {
     double area = glm::dot(glm::cross(b - a, c - a), n);
@@ -116,7 +119,7 @@ Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
       return (u * cv[k] + v * cv[(k + 1) % 4] + w * cc) / t;
     }
   }
-  return e.radiosity;
+  return cc;
 }
 
 }  // namespace hr

@@ -92,6 +92,9 @@ struct SolverState {
   /// The sender's quantity for a link: radiosity for elements (W/m^2), intensity toward the
   /// receiver for clusters (W/sr), the extension's share included.
   Rgb senderValue(const Link& l) const;
+  /// The extension's intensity of the link's sender averaged over directions to an element
+  /// receiver, W/sr.
+  Rgb extensionOverReceiver(const Link& l) const;
   /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
   void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.

@@ -2,6 +2,7 @@
 #include <hr/output.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -47,6 +48,11 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
                  {"escaped_w", rgb(st.escapedW)},
                  {"audit_std_error_w", rgb(st.auditStdErrW)},
                  {"imbalance_w", rgb(bal)}};
+  if (!run.extension.empty()) {
+    json ext = json::object();
+    for (const auto& [name, value] : run.extension) ext[name] = std::isfinite(value) ? json(value) : json(nullptr);
+    j["extension"] = ext;
+  }
   j["iterations"] = st.iterations;
   j["converged"] = st.converged;
   json hist = json::array();

@@ -2,6 +2,7 @@
 // vertices, consistent orientation), then each face becomes one planar patch. Non-planar quads are
 // split into two triangles; zero-area faces are dropped and counted, never silently.
 #include <hr/geometry.h>
+#include <hr/limits.h>
 
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <glm/gtc/matrix_transform.hpp>
@@ -251,6 +252,22 @@ std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
   return out;
 }
 
+/// Every vertex an object produced lies where single-precision rays still work (hr/limits.h): the
+/// readers check the values they read, but transforms, MGF contexts and mesh files combine them.
+void checkPlacement(const std::vector<Patch>& patches, std::size_t from, const Object& o) {
+  if (patches.size() > limits::kMaxPatches)
+    throw InputError(o.where + ": the scene tessellates into more than " + std::to_string(limits::kMaxPatches) +
+                     " patches (the documented limit)");
+  for (std::size_t i = from; i < patches.size(); ++i)
+    for (int k = 0; k < patches[i].poly.n; ++k) {
+      const Vec3& v = patches[i].poly.v[k];
+      for (int c = 0; c < 3; ++c)
+        if (!limits::within(v[c], limits::kCoordinate))
+          throw InputError(o.where + ": a vertex lands at coordinate " + std::to_string(v[c]) +
+                           " after the transform, outside the allowed range " + limits::kCoordinate.text() + " m");
+    }
+}
+
 }  // namespace
 
 std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
@@ -259,10 +276,13 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
   const int seg = scene.settings.tessellation;
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& o = scene.objects[oi];
+    const std::size_t first = patches.size();
     glm::dmat4 xf = o.transform.matrix();
     // A mirroring transform would turn every face inside out: keep the declared facing.
     const bool mirrored = glm::determinant(glm::dmat3(xf)) < 0.0;
     std::uint32_t mat = o.material.empty() ? kNone : scene.materialIndex.at(o.material);
+    // Only a mesh may leave its material to its file; anything else without one is a reader's bug.
+    if (mat == kNone && o.type != PrimitiveType::Mesh) throw std::logic_error(o.where + ": object without a material");
     if (o.type == PrimitiveType::Mesh) {
       MeshData md;
       try {
@@ -293,6 +313,7 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
         for (int i = 0; i < p.n; ++i) p.v[i] = Vec3(xf * glm::dvec4(p.v[i], 1.0));
         sink.add(p, fm, oi);
       }
+      checkPlacement(patches, first, o);
       continue;
     }
     if (o.type == PrimitiveType::Polygon) {
@@ -302,6 +323,7 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
       std::size_t before = patches.size();
       for (const Polygon& t : triangulate(pts)) sink.add(t, mat, oi);
       if (patches.size() == before) throw InputError(o.where + ": polygon has zero area (zero-size primitive)");
+      checkPlacement(patches, first, o);
       continue;
     }
     if (o.type == PrimitiveType::Quad) {
@@ -318,6 +340,7 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
           throw InputError(o.where + ".vertices: quad is not convex with consistent winding");
       }
       sink.add(p, mat, oi);
+      checkPlacement(patches, first, o);
       continue;
     }
     MeshBuilder b;
@@ -334,12 +357,18 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
     emitMesh(b.mesh(), xf, mirrored, sink, mat, oi);
     if (patches.size() == before)
       throw InputError(o.where + ": every face is degenerate after the transform (zero-size primitive)");
+    checkPlacement(patches, first, o);
   }
+  const std::string file = scene.path.empty() ? std::string("<scene>") : scene.path;
   bool emits = false;
-  for (const Patch& p : patches) emits = emits || scene.materials[p.material].emitter();
-  if (!emits)
-    throw InputError((scene.path.empty() ? std::string("<scene>") : scene.path) +
-                     ": the scene has no emitting surface (give a material an \"emission\")");
+  Rgb power(0.0);
+  for (const Patch& p : patches) {
+    emits = emits || scene.materials[p.material].emitter();
+    power += kPi * scene.materials[p.material].emission * p.area;
+  }
+  if (!emits) throw InputError(file + ": the scene has no emitting surface (give a material an \"emission\")");
+  if (!(maxComponent(power) <= limits::kMaxPowerW))
+    throw InputError(file + ": the emitters' total power exceeds " + std::to_string(limits::kMaxPowerW) + " W");
   return patches;
 }
 

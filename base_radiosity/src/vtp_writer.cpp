@@ -15,12 +15,12 @@
 
 namespace hr {
 
-void writeVtp(const Solution& s, const std::string& path) {
+void writeVtp(const Solution& s, const std::string& path, const Extension* ext) {
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
   vtkNew<vtkCellArray> polys;
   vtkNew<vtkDoubleArray> cellB, pointB, area;
-  vtkNew<vtkIntArray> object, level;
+  vtkNew<vtkIntArray> object, level, elementId;
   cellB->SetName("radiosity");
   cellB->SetNumberOfComponents(3);
   pointB->SetName("radiosity");
@@ -28,6 +28,13 @@ void writeVtp(const Solution& s, const std::string& path) {
   area->SetName("area");
   object->SetName("object_id");
   level->SetName("level");
+  elementId->SetName("element_id");
+  // With an extension: its coefficients and its reflected power per leaf (0 where it has none).
+  vtkNew<vtkIntArray> coefficients;
+  vtkNew<vtkDoubleArray> extPower;
+  coefficients->SetName("directional_coefficients");
+  extPower->SetName("directional_power_w");
+  extPower->SetNumberOfComponents(3);
   for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
     const auto& e = s.elements[i];
     if (!e.leaf()) continue;
@@ -41,7 +48,13 @@ void writeVtp(const Solution& s, const std::string& path) {
     cellB->InsertNextTuple3(e.radiosity.x, e.radiosity.y, e.radiosity.z);
     object->InsertNextValue(static_cast<int>(s.patches[e.patch].object));
     level->InsertNextValue(static_cast<int>(e.level));
+    elementId->InsertNextValue(static_cast<int>(i));
     area->InsertNextValue(e.poly.area());
+    if (ext) {
+      coefficients->InsertNextValue(static_cast<int>(ext->coefficients(NodeId{i})));
+      Rgb P = ext->reflectedPower(NodeId{i});
+      extPower->InsertNextTuple3(P.x, P.y, P.z);
+    }
   }
   vtkNew<vtkPolyData> pd;
   pd->SetPoints(pts);
@@ -49,7 +62,12 @@ void writeVtp(const Solution& s, const std::string& path) {
   pd->GetCellData()->AddArray(cellB);
   pd->GetCellData()->AddArray(object);
   pd->GetCellData()->AddArray(level);
+  pd->GetCellData()->AddArray(elementId);
   pd->GetCellData()->AddArray(area);
+  if (ext) {
+    pd->GetCellData()->AddArray(coefficients);
+    pd->GetCellData()->AddArray(extPower);
+  }
   pd->GetPointData()->AddArray(pointB);
   writePolyData(pd, path);
 }

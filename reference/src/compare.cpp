@@ -1,4 +1,6 @@
-// Comparison metrics and the false-colour difference image.
+// Comparison metrics and the false-colour difference image. Images that cannot be measured (a
+// non-finite or negative pixel, a reference without light) are refused: relative errors against them
+// would print as 0 or -inf and look like an answer.
 #include <ref/compare.h>
 
 #include <algorithm>
@@ -9,31 +11,43 @@ namespace ref {
 
 namespace {
 
-bool selected(const hr::Image& img, std::size_t i, long mask) {
-  return mask < 0 || img.objectId[i] == static_cast<std::uint32_t>(mask);
+bool selected(const hr::Image& img, std::size_t i, long mask, const std::vector<std::uint32_t>& exclude) {
+  if (mask >= 0 && img.objectId[i] != static_cast<std::uint32_t>(mask)) return false;
+  return exclude.empty() || std::find(exclude.begin(), exclude.end(), img.objectId[i]) == exclude.end();
 }
 
 double lum(const hr::Image& img, std::size_t i) {
   return hr::luminance(hr::Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]));
 }
 
-void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+void checkPair(const hr::Image& a, const hr::Image& b, bool masked, const std::string& nameA, const std::string& nameB) {
   if (a.width != b.width || a.height != b.height)
     throw hr::InputError(nameA + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + " but " + nameB +
                          " is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ": images must have the same size");
-  if (mask >= 0 && a.objectId.size() != std::size_t(a.width) * a.height)
-    throw hr::InputError("--mask: " + nameA + " has no object_id channel");
+  if (masked && a.objectId.size() != std::size_t(a.width) * a.height)
+    throw hr::InputError("--mask/--exclude: " + nameA + " has no object_id channel");
+  for (const auto* img : {&a, &b}) {
+    const std::string& name = img == &a ? nameA : nameB;
+    for (std::size_t i = 0; i < img->rgb.size(); ++i)
+      if (!std::isfinite(img->rgb[i]) || img->rgb[i] < 0.0f) {
+        std::size_t p = i / 3;
+        throw hr::InputError(name + ": pixel (" + std::to_string(p % std::size_t(img->width)) + ", " +
+                             std::to_string(p / std::size_t(img->width)) + ") holds " + std::to_string(img->rgb[i]) +
+                             ": radiance must be finite and >= 0 to be compared");
+      }
+  }
 }
 
 }  // namespace
 
-Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
-  checkPair(a, b, mask, nameA, nameB);
+Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB,
+                const std::vector<std::uint32_t>& exclude) {
+  checkPair(a, b, mask >= 0 || !exclude.empty(), nameA, nameB);
   const std::size_t P = std::size_t(a.width) * a.height;
   Metrics m;
   double se = 0.0, sae = 0.0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double va = lum(a, i), vb = lum(b, i);
     ++m.pixels;
     m.meanA += va, m.meanB += vb;
@@ -43,13 +57,16 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   }
   if (m.pixels == 0) throw hr::InputError("--mask: no pixel of object " + std::to_string(mask) + " in " + nameA);
   m.meanA /= double(m.pixels), m.meanB /= double(m.pixels);
+  if (!(m.meanB > 0.0))
+    throw hr::InputError(nameB + ": the reference is black" + std::string(mask >= 0 ? " over the masked pixels" : "") +
+                         ": errors relative to it are undefined");
   m.meanAbsError = sae / double(m.pixels);
   m.relRmse = m.meanB > 0.0 ? std::sqrt(se / double(m.pixels)) / m.meanB : 0.0;
   m.meanRatio = m.meanB > 0.0 ? m.meanA / m.meanB : 0.0;
   double rel = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double vb = lum(b, i);
     if (vb <= 1e-3 * m.meanB) continue;
     rel += std::abs(lum(a, i) - vb) / vb;
@@ -59,12 +76,13 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   return m;
 }
 
-void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range) {
-  Metrics m = compare(a, b, mask);
+void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range,
+                        const std::vector<std::uint32_t>& exclude) {
+  Metrics m = compare(a, b, mask, "A", "B", exclude);
   const std::size_t P = std::size_t(a.width) * a.height;
   std::vector<unsigned char> px(3 * P, 128);
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double t = m.meanB > 0.0 ? std::clamp((lum(a, i) - lum(b, i)) / (m.meanB * range), -1.0, 1.0) : 0.0;
     // White at 0, towards red (A brighter) or blue (A darker).
     double r = t < 0.0 ? 1.0 + t : 1.0, g = 1.0 - std::abs(t), bl = t > 0.0 ? 1.0 - t : 1.0;

@@ -10,8 +10,11 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "../helpers.h"
+#include "../test_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -220,7 +223,7 @@ TEST(Compare, MetricsOnKnownImages) {
 }
 
 TEST(ReferenceCli, BadInputIsRefusedAndNothingWritten) {
-  fs::path out = fs::temp_directory_path() / "ghr_ref_cli";
+  fs::path out = testutil::testDir() / "ref_cli";
   fs::remove_all(out);
   std::string text;
   EXPECT_NE(testutil::runCli("reference -o " + out.string() + " --spp 4 --time-s 1", text), 0);
@@ -242,6 +245,42 @@ TEST(ReferenceCli, BadInputIsRefusedAndNothingWritten) {
   EXPECT_NE(text.find("same size"), std::string::npos) << text;
   EXPECT_FALSE(fs::exists(out / "d.png"));
   fs::remove_all(out);
+}
+
+}  // namespace
+
+namespace {
+
+// One sample per pixel is an unbiased image like any other (it came out black when pixels with fewer
+// than two samples were skipped); only its variance is unknown, and says so.
+TEST(Reference, OneSamplePerPixelRequestedGivesAnUnbiasedImageWithItsNoise) {
+  // Samples come in rounds of 8 independently scrambled replicates (the variance is their spread),
+  // so --spp 1 renders 8 per pixel: never a black image, never an unknown variance.
+  const std::string scene = R"({ "materials": { "e": { "emission": [1,1,1] }, "r": { "diffuse": [0.8,0.8,0.8] } },
+    "objects": [
+      { "type": "quad", "material": "e", "vertices": [[0,0,1],[0,1,1],[1,1,1],[1,0,1]] },
+      { "type": "quad", "material": "r", "vertices": [[-1,-1,0],[2,-1,0],[2,2,0],[-1,2,0]] } ],
+    "cameras": [ { "name": "c", "eye": [0.5,-1.5,0.5], "look_at": [0.5,0.5,0.2], "fov_y_deg": 70, "width": 64, "height": 48 } ] })";
+  Traced s = load(scene);
+  ref::Options one, many;
+  one.spp = 1, many.spp = 64;
+  ref::CameraResult r1 = s.pt->render(s.scene.cameras[0], one), r64 = s.pt->render(s.scene.cameras[0], many);
+  EXPECT_EQ(r1.spp, 8);
+  const double se1 = r1.relStdError * r1.meanLuminance, se64 = r64.relStdError * r64.meanLuminance;
+  ASSERT_GT(se1, 0.0);
+  ASSERT_GT(se64, 0.0);
+  EXPECT_NEAR(r1.meanLuminance, r64.meanLuminance, 4.0 * std::hypot(se1, se64))
+      << "means " << r1.meanLuminance << " vs " << r64.meanLuminance << ", noise " << se1;
+  // Through the command line: stats.json says how many samples were taken and their noise.
+  const fs::path dir = testutil::testDir();
+  std::ofstream(dir / "s.json") << scene;
+  std::string text;
+  ASSERT_EQ(testutil::runCli("reference " + (dir / "s.json").string() + " --spp 1 --quiet -o " + (dir / "out").string(), text), 0) << text;
+  std::ifstream in(dir / "out" / "stats.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["cameras"][0]["spp"], 8);
+  EXPECT_GT(j["cameras"][0]["rel_std_error_of_mean"].get<double>(), 0.0);
+  EXPECT_GT(j["cameras"][0]["image_mean_luminance"].get<double>(), 0.0);
 }
 
 }  // namespace

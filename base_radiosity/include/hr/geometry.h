@@ -37,5 +37,8 @@ struct MeshData {
   std::vector<Material> materials;  // OBJ materials mapped onto the modified Phong model
 };
 MeshData readMeshFile(const std::string& path);
+/// The same from bytes already in memory (the format from path's extension); OBJ material libraries
+/// are read relative to path unless readMaterialLibraries is false (the fuzzers).
+MeshData parseMesh(const std::string& bytes, const std::string& path, bool readMaterialLibraries = true);
 
 }  // namespace hr

@@ -12,6 +12,9 @@ namespace hr {
 /// naming the file, line and entity on any error.
 void readMgf(const std::string& path, Scene& scene, const glm::dmat4& xf = glm::dmat4(1.0), const std::string& where = "");
 
+/// The same from text already in memory (path names it in messages and anchors includes).
+void parseMgf(const std::string& text, const std::string& path, Scene& scene);
+
 /// A scene made of one MGF file (no cameras: callers frame one).
 Scene loadMgfScene(const std::string& path);
 

@@ -26,6 +26,9 @@ using DisplayFn = std::function<Rgb(std::uint32_t leaf, const Vec3& hitPoint, co
 /// Casts samplesPerAxis^2 primary rays per pixel (a regular grid) through Embree and shades from the
 /// stored solution; pixels hold averages (W/(m^2 sr)), object ids come from the pixel centre.
 Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr, int samplesPerAxis = 3);
+/// The same with the run's extension, loaded (its radiance added, smooth per display vertex); a null
+/// extension renders the host's light alone.
+Image render(const Solution& s, const Camera& cam, const Extension* ext);
 void writeExr(const Image& img, const std::string& path);
 Image readExr(const std::string& path);
 /// sRGB PNG, tone-mapped by a global exposure (key 0.18 over the log-average luminance) and
@@ -34,14 +37,16 @@ void writePng(const Image& img, const std::string& path);
 /// 8-bit RGB pixels as they are (no tone mapping): false-colour images.
 void writePng8(const std::vector<unsigned char>& rgb, int width, int height, const std::string& path);
 
-/// VTK XML PolyData of the leaf elements (see README "Outputs" for the arrays).
-void writeVtp(const Solution& s, const std::string& path);
+/// VTK XML PolyData of the leaf elements (see README "Outputs" for the arrays); with the run's
+/// extension, also its coefficients and reflected power per leaf.
+void writeVtp(const Solution& s, const std::string& path, const Extension* ext = nullptr);
 
 struct RunInfo {
   std::string scene, host = "bright", algorithm = "diffuse";
   double eps = 0;
   int maxLevel = 0, threads = 1, raysPerLink = 0;
   std::uint64_t seed = 0;
+  std::vector<std::pair<std::string, double>> extension;  // the extension's own figures
 };
 std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRssBytes);
 std::size_t peakRssBytes();

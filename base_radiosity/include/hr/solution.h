@@ -4,6 +4,7 @@
 #pragma once
 #include <hr/geometry.h>
 #include <hr/hierarchy.h>
+#include <hr/section_file.h>
 
 #include <string>
 #include <vector>
@@ -19,6 +20,14 @@ struct SolutionElement {
   bool leaf() const { return firstChild == kNone; }
 };
 
+/// An extension's part of a solution: its name in the extension table, the version of its format and
+/// the bytes its save() wrote (the solution file's tagged extension section).
+struct ExtensionData {
+  std::string name;  // empty: the run had no extension
+  std::uint32_t version = 0;
+  std::string bytes;
+};
+
 struct Solution {
   std::string sceneName;
   std::string host = "bright";
@@ -29,9 +38,19 @@ struct Solution {
   std::vector<Camera> cameras;
   std::uint32_t objectCount = 0;
 
+  ExtensionData extension;
+  /// Opaque sections saved and loaded verbatim besides the core's, each with its own checksum (an
+  /// extension's state: its name, its format version and its bytes, as it chooses). See setSection().
+  std::vector<Section> sections;
+
   /// Per leaf corner, smoothed radiosity (W/m^2): filled by reconstruct().
   std::vector<std::array<Rgb, 4>> cornerRadiosity;
 };
+
+/// Adds (or replaces) an opaque section of the .ghrs file; the core's own names are reserved.
+void setSection(Solution& s, const std::string& name, std::string bytes);
+/// The payload of an opaque section, or nullptr.
+const std::string* findSection(const Solution& s, const std::string& name);
 
 Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<Rgb>& radiosity);
 
@@ -43,9 +62,15 @@ void reconstruct(Solution& s);
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
 /// Smoothly reconstructed radiosity at point x on the leaf, W/m^2.
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x);
+/// Any per-corner values of a leaf (e.g. radiance toward an eye) interpolated at x the same way.
+Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& corners);
 
-/// Versioned binary solution file (.ghrs). Throws InputError on a truncated or foreign file.
+/// Versioned binary solution file (.ghrs, format 2: tagged sections with a CRC-32 each, see
+/// solution_io.cpp). Throws InputError naming the section on a damaged, truncated or foreign file.
 void saveSolution(const Solution& s, const std::string& path);
 Solution loadSolution(const std::string& path);
+std::string serializeSolution(const Solution& s);
+/// verifyChecksums = false: the fuzzer's way past the CRCs to the validation behind them.
+Solution parseSolution(std::string_view bytes, const std::string& path, bool verifyChecksums = true);
 
 }  // namespace hr

@@ -34,6 +34,7 @@ class IlluminationSamples final : public hr::Extension {
   void split(hr::NodeId parent, std::span<const hr::NodeId> children) override;
 
   hr::Rgb intensity(hr::NodeId node, const hr::Vec3& dir) const override;
+  hr::Rgb meanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
   hr::Rgb intensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const override;
 
   void gather(hr::NodeId receiver, std::span<const hr::IncidentSample> samples) override;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ref {
 
@@ -18,14 +19,15 @@ struct Metrics {
   double meanA = 0.0, meanB = 0.0;
 };
 
-/// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, or no
-/// pixel is left to compare. mask < 0: all pixels.
+/// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, no
+/// pixel is left to compare, a pixel is not finite or negative, or the reference is black (mean 0).
+/// mask < 0: all pixels; exclude: objects whose pixels are left out (e.g. the light sources).
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
-                const std::string& nameB = "B");
+                const std::string& nameB = "B", const std::vector<std::uint32_t>& exclude = {});
 
 /// False colour of (a - b) / mean b: blue below, red above, white equal, saturating at +-range;
 /// pixels outside the mask are grey.
 void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask = -1,
-                        double range = 0.25);
+                        double range = 0.25, const std::vector<std::uint32_t>& exclude = {});
 
 }  // namespace ref

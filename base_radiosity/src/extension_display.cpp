@@ -1,0 +1,98 @@
+// Display vertices of an extension's leaves and their per-eye evaluation (see extension_display.h).
+#include <hr/extension_display.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+namespace hr {
+
+ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_(s), ext_(ext) {
+  std::vector<char> sim(s.materials.size(), 0);
+  for (std::size_t m = 0; m < s.materials.size(); ++m) {
+    const Material& mt = s.materials[m];
+    sim[m] = ext.simulates({mt.diffuse, mt.specular, mt.exponent, mt.emission}) ? 1 : 0;
+  }
+  Aabb box;
+  for (const Patch& p : s.patches)
+    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+  const double q = std::max(box.diagonal(), 1e-300) * 1e-7;
+  // Vertices keyed by quantised position, object and material; members in leaf order.
+  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t, std::uint32_t, std::uint32_t>;
+  std::map<Key, std::uint32_t> index;
+  std::vector<std::vector<std::uint32_t>> members;
+  cornerOf_.assign(s.elements.size(), kNone);
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+    const SolutionElement& e = s.elements[i];
+    const Patch& p = s.patches[e.patch];
+    if (!e.leaf() || !sim[p.material]) continue;
+    cornerOf_[i] = static_cast<std::uint32_t>(cornerVertex_.size());
+    for (int k = 0; k < 4; ++k) {
+      const Vec3& v = e.poly.v[k < e.poly.n ? k : e.poly.n - 1];
+      Key key{std::llround(v.x / q), std::llround(v.y / q), std::llround(v.z / q), p.object, p.material};
+      auto [it, fresh] = index.emplace(key, static_cast<std::uint32_t>(pos_.size()));
+      if (fresh) {
+        pos_.push_back(v);
+        members.emplace_back();
+      }
+      if (k < e.poly.n && (members[it->second].empty() || members[it->second].back() != i)) members[it->second].push_back(i);
+      cornerVertex_.push_back(it->second);
+    }
+  }
+  memberStart_.assign(1, 0);
+  for (const auto& m : members) {
+    member_.insert(member_.end(), m.begin(), m.end());
+    memberStart_.push_back(static_cast<std::uint32_t>(member_.size()));
+  }
+  // Each corner averages the members whose normal is within 30 degrees of its leaf's: creases of one
+  // object (a box's edges) stay sharp, a tessellated sphere is smooth.
+  const double cosMax = std::cos(30.0 * kPi / 180.0);
+  useStart_.assign(1, 0);
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+    if (cornerOf_[i] == kNone) continue;
+    const Vec3& n = s.patches[s.elements[i].patch].normal;
+    for (int k = 0; k < 4; ++k) {
+      std::uint32_t v = cornerVertex_[cornerOf_[i] + k];
+      for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m)
+        if (glm::dot(s.patches[s.elements[member_[m]].patch].normal, n) >= cosMax) use_.push_back(m);
+      useStart_.push_back(static_cast<std::uint32_t>(use_.size()));
+    }
+  }
+  value_.assign(member_.size(), Rgb(0.0));
+  cornerValue_.assign(cornerVertex_.size(), Rgb(0.0));
+}
+
+void ExtensionDisplay::update(const Vec3& eye) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos_.size(), 256), [&](const auto& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v) {
+      Vec3 d = eye - pos_[v];
+      double len = glm::length(d);
+      d = len > 0.0 ? d / len : Vec3(0, 0, 1);
+      for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
+        Rgb L = ext_.radiance(NodeId{member_[m]}, d);
+        value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cornerValue_.size(), 1024), [&](const auto& r) {
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      Rgb sum(0.0);
+      double w = 0.0;
+      for (std::uint32_t u = useStart_[c]; u < useStart_[c + 1]; ++u) {
+        double a = s_.elements[member_[use_[u]]].poly.area();
+        sum += a * value_[use_[u]];
+        w += a;
+      }
+      cornerValue_[c] = w > 0.0 ? sum / w : Rgb(0.0);
+    }
+  });
+}
+
+Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x) const {
+  if (leaf >= cornerOf_.size() || cornerOf_[leaf] == kNone) return Rgb(0.0);
+  const std::uint32_t c = cornerOf_[leaf];
+  return interpolateCorners(s_, leaf, x, {cornerValue_[c], cornerValue_[c + 1], cornerValue_[c + 2], cornerValue_[c + 3]});
+}
+
+}  // namespace hr

@@ -1,0 +1,108 @@
+// The tagged-section container (see hr/section_file.h).
+#include <array>
+#include <cstring>
+#include <hr/echo.h>
+#include <hr/section_file.h>
+#include <hr/types.h>
+
+namespace hr {
+namespace {
+
+constexpr std::size_t kMaxName = 64;
+
+const std::array<std::uint32_t, 256>& crcTable() {
+  static const std::array<std::uint32_t, 256> t = [] {
+    std::array<std::uint32_t, 256> r{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      r[i] = c;
+    }
+    return r;
+  }();
+  return t;
+}
+
+template <class T>
+void put(std::string& b, T v) {
+  char raw[sizeof(T)];
+  std::memcpy(raw, &v, sizeof(T));  // the project targets little-endian machines (x86-64, arm64)
+  b.append(raw, sizeof(T));
+}
+
+template <class T>
+T get(std::string_view b, std::size_t at) {
+  T v;
+  std::memcpy(&v, b.data() + at, sizeof(T));
+  return v;
+}
+
+}  // namespace
+
+std::uint32_t crc32(std::string_view bytes, std::uint32_t crc) {
+  const auto& t = crcTable();
+  crc = ~crc;
+  for (char ch : bytes) crc = t[(crc ^ static_cast<unsigned char>(ch)) & 0xFFu] ^ (crc >> 8);
+  return ~crc;
+}
+
+SectionWriter::SectionWriter(std::string_view magic, std::uint32_t version) {
+  buf_.append(magic);
+  put(buf_, version);
+}
+
+void SectionWriter::add(std::string_view name, std::string_view payload) {
+  if (name.empty() || name.size() > kMaxName) throw std::logic_error("section name must have 1-64 bytes");
+  std::string head;
+  put(head, static_cast<std::uint32_t>(name.size()));
+  head.append(name);
+  put(head, static_cast<std::uint64_t>(payload.size()));
+  std::uint32_t crc = crc32(payload, crc32(head));
+  buf_ += head;
+  put(buf_, crc);
+  buf_.append(payload);
+}
+
+std::string SectionWriter::finish() const {
+  std::string out = buf_;
+  out += "END!";
+  put(out, crc32(buf_));
+  return out;
+}
+
+std::vector<Section> readSections(std::string_view b, std::string_view magic, std::uint32_t version,
+                                  const std::string& path, bool verify) {
+  if (b.size() < magic.size() + 4 || b.substr(0, magic.size()) != magic)
+    throw InputError(path + ": not a glossyhr solution file (bad magic)");
+  std::uint32_t v = get<std::uint32_t>(b, magic.size());
+  if (v != version)
+    throw InputError(path + ": file format version " + std::to_string(v) + " is not supported (expected " +
+                     std::to_string(version) + "; a damaged file reads as a wrong version too)");
+  std::vector<Section> out;
+  std::size_t at = magic.size() + 4;
+  for (std::size_t index = 0;; ++index) {
+    const std::string which = "section " + std::to_string(index);
+    if (b.size() - at == 8 && b.substr(at, 4) == "END!") {
+      if (verify && get<std::uint32_t>(b, at + 4) != crc32(b.substr(0, at)))
+        throw InputError(path + ": trailer: checksum mismatch (the file is damaged)");
+      return out;
+    }
+    if (b.size() - at < 4 + 8 + 4) throw InputError(path + ": " + which + ": truncated file (no trailer)");
+    std::uint32_t nameLen = get<std::uint32_t>(b, at);
+    if (nameLen == 0 || nameLen > kMaxName || b.size() - at - 4 < std::size_t(nameLen) + 12)
+      throw InputError(path + ": " + which + ": bad section header (name length " + std::to_string(nameLen) + ")");
+    std::string name(b.substr(at + 4, nameLen));
+    const std::string label = which + " (" + echo(name) + ")";
+    std::uint64_t len = get<std::uint64_t>(b, at + 4 + nameLen);
+    std::uint32_t crc = get<std::uint32_t>(b, at + 4 + nameLen + 8);
+    std::size_t body = at + 4 + nameLen + 12;
+    if (len > b.size() - body) throw InputError(path + ": " + label + ": truncated file (section runs past the end)");
+    std::string_view payload = b.substr(body, std::size_t(len));
+    if (verify && crc32(payload, crc32(b.substr(at, 4 + nameLen + 8))) != crc)
+      throw InputError(path + ": " + label + ": checksum mismatch (the file is damaged)");
+    out.push_back({std::move(name), std::string(payload)});
+    at = body + std::size_t(len);
+  }
+}
+
+}  // namespace hr
