@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "convergence.h"
 #include "solver_state.h"
@@ -25,6 +27,8 @@ SolverOptions SolverOptions::from(const Settings& s) {
   o.maxIterations = s.maxIterations;
   o.tolerance = s.tolerance;
   o.seed = s.seed;
+  const char* testOnly = std::getenv("GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS");
+  o.testOnlyUnblockedShadowRays = testOnly && std::string(testOnly) == "1";
   return o;
 }
 
@@ -103,10 +107,13 @@ struct Solver::Impl final : public HostView {
     double totalArea = 0.0;
     for (const Patch& p : h.patches()) totalArea += p.area;
     s.minArea = s.opt.minArea > 0.0 ? s.opt.minArea : totalArea * 1e-6;
+    if (s.opt.testOnlyUnblockedShadowRays)
+      progress->note("TEST ONLY: shadow rays are never blocked (GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS=1): the answer is wrong on purpose");
     s.growArrays();
     markOwned();
     for (const Patch& p : h.patches()) st.emittedW += kPi * s.scene.materials[p.material].emission * p.area;
     s.emittedPower = luminance(st.emittedW);
+    detail::checkCanAbsorb(s);
     s.allocateTables();
     detail::pushPull(s);  // no links yet: cluster intensities from the emitters
     s.links.clear();
@@ -159,6 +166,11 @@ struct Solver::Impl final : public HostView {
     st.escapedW = audit.escapedW;
     st.backAbsorbedW = audit.backAbsorbedW;
     st.auditStdErrW = audit.escapedStdErrW;
+    // Honest reporting: the audit measures where the power went independently of the links; an
+    // imbalance beyond what the options allow plus the audit's own noise makes the answer untrustworthy.
+    st.allowedImbalanceW = s.opt.maxImbalance * st.emittedW + 3.0 * st.auditStdErrW;
+    for (int c = 0; c < 3; ++c)
+      st.energyOk = st.energyOk && std::abs(st.emittedW[c] - st.absorbedW[c] - st.escapedW[c]) <= st.allowedImbalanceW[c];
     st.visibility = stat(s.clkVisibility);
     st.refine = stat(s.clkRefine);
     st.gather = stat(s.clkGather);

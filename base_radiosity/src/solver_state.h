@@ -131,6 +131,10 @@ void pushPull(SolverState& s);
 /// Cluster intensities from the current radiosity alone (before the first gather).
 void pullOnly(SolverState& s);
 
+/// Throws InputError naming the scene when it cannot absorb any of some emitted channel (no finite
+/// solution; absorption.cpp).
+void checkCanAbsorb(const SolverState& s);
+
 struct AuditResult {
   Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};
   Rgb escapedStdErrW{0.0};  // standard error of the ray estimate of escaped + back-face power

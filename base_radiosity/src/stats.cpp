@@ -47,7 +47,12 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
                  {"absorbed_back_faces_w", rgb(st.backAbsorbedW)},
                  {"escaped_w", rgb(st.escapedW)},
                  {"audit_std_error_w", rgb(st.auditStdErrW)},
-                 {"imbalance_w", rgb(bal)}};
+                 {"imbalance_w", rgb(bal)},
+                 {"allowed_imbalance_w", rgb(st.allowedImbalanceW)}};
+  // Whether the audit's imbalance is within what the solution may be off by (SolveStats):
+  // false means the answer is not trustworthy, and `glossyhr solve` exits 3.
+  j["energy_ok"] = st.energyOk;
+  j["max_imbalance"] = run.maxImbalance;
   if (!run.extension.empty()) {
     json ext = json::object();
     for (const auto& [name, value] : run.extension) ext[name] = std::isfinite(value) ? json(value) : json(nullptr);
