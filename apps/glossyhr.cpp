@@ -1,7 +1,8 @@
 // glossyhr: the command line. `solve` runs the radiosity solver on a scene and writes stats.json,
 // solution.vtp, solution.ghrs and one EXR + PNG per camera; `render` re-renders a saved solution;
 // `lobe` measures one material's reflected lobe in a directional basis (apps/lobe_command.cpp);
-// `reference` path-traces reference images and `compare` measures one image against another.
+// `reference` path-traces reference images and `compare` measures one image against another; `view`
+// shows a saved solution in a window or replays a camera path (apps/view_command.cpp).
 // Input is validated completely before the output folder is touched; every flag against the limits
 // table the scene readers use (flag_checks.h); a command-line error exits 2 like any bad input.
 #include <CLI/CLI.hpp>
@@ -23,6 +24,9 @@
 #include "inspect_command.h"
 #include "lobe_command.h"
 #include "reference_command.h"
+#include "study_command.h"
+#include "ab_command.h"
+#include "view_command.h"
 #include "registry.h"
 
 namespace fs = std::filesystem;
@@ -35,7 +39,7 @@ struct SolveArgs {
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
   std::optional<double> maxImbalance;
-  bool quiet = false;
+  bool quiet = false, lambertian = false;
   ExtensionOptions extension;
 };
 
@@ -63,6 +67,14 @@ int runSolve(const SolveArgs& a) {
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
   for (const auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& d : scene.dropped) std::fprintf(stderr, "note: dropped or approximated: %s\n", d.c_str());
+  if (a.lambertian) {
+    // rho_d + rho_s is the modified Phong albedo at normal incidence: the Lambertian stand-in
+    // reflects as much light, so an A/B pair of runs holds the same energy.
+    std::size_t n = 0;
+    for (hr::Material& m : scene.materials)
+      if (m.glossy()) m.diffuse += m.specular, m.specular = hr::Rgb(0.0), ++n;
+    if (!a.quiet) std::fprintf(stderr, "note: --lambertian: %zu glossy material(s) made Lambertian (rho_d + rho_s)\n", n);
+  }
   std::unique_ptr<hr::Extension> ext = a.extension.make(a.algorithm);
   hr::SolverOptions opt = hr::SolverOptions::from(scene.settings);
   if (a.eps) opt.eps = *a.eps;
@@ -240,6 +252,8 @@ int main(int argc, char** argv) {
                     "exit 3 when the energy audit finds more than this fraction of the emitted power unaccounted "
                     "for (plus its noise); default 0.02");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
+  solve->add_flag("--lambertian", sa.lambertian,
+                  "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;
@@ -296,10 +310,33 @@ int main(int argc, char** argv) {
   compare->add_option("a", ca.a, "candidate image (.exr)")->required();
   compare->add_option("b", ca.b, "reference image (.exr)")->required();
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
-  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids, e.g. the lights (ID,ID,...)")
+  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids and their bordering pixels, e.g. the lights (ID,ID,...)")
       ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
+  ViewArgs va;
+  auto* viewCmd = app.add_subcommand("view", "a saved solution in an interactive window, or a camera path replayed headless");
+  addViewOptions(viewCmd, va);
+  StudyArgs sta;
+  auto* studyCmd = app.add_subcommand("study", "what accuracy costs: a grid of solves against a reference and the path tracer");
+  studyCmd->add_option("scene", sta.scene, "scene file (.json or .mgf)")->required();
+  studyCmd->add_option("-o,--output", sta.out, "output folder (study.csv, study.json, plots)")->capture_default_str();
+  studyCmd->add_option("--grid", sta.grid, std::string("configurations, KEY=V,V;KEY=V,... (default \"") + kDefaultStudyGrid + "\")");
+  studyCmd->add_option("--reference-spp", sta.referenceSpp, "samples per pixel of the cached reference (default 1024)");
+  studyCmd->add_option("--reference", sta.reference, "instead: this EXR is the reference (one-camera scenes)");
+  studyCmd->add_option("--views", sta.views, "walkthrough length for the economics columns (default 10)");
+  studyCmd->add_option("--cache", sta.cache, "where references are cached (default ~/.cache/glossyhr)");
+  studyCmd->add_option("--threads", sta.threads, "worker threads of each run (default: all cores)");
+  studyCmd->add_flag("--no-plots", sta.noPlots, "write the CSV and JSON only");
+  studyCmd->add_flag("--quiet", sta.quiet, "no progress on stderr");
+  AbArgs aba;
+  auto* abCmd = app.add_subcommand("ab", "a scene solved diffuse-only (glossy made Lambertian) and glossy, side by side");
+  abCmd->add_option("scene", aba.scene, "scene file (.json or .mgf) with glossy materials")->required();
+  abCmd->add_option("-o,--output", aba.out, "output folder")->capture_default_str();
+  abCmd->add_option("--algorithm", aba.algorithm, "the glossy run's extension")->capture_default_str();
+  abCmd->add_option("--eps", aba.eps, "relative refinement threshold of both runs");
+  abCmd->add_option("--threads", aba.threads, "worker threads of each run (default: all cores)");
+  abCmd->add_flag("--quiet", aba.quiet, "no progress on stderr");
   std::string infoScene;
   bool infoJson = false;
   auto* info = app.add_subcommand("info", "what a scene (JSON or MGF) holds");
@@ -319,6 +356,9 @@ int main(int argc, char** argv) {
     if (*reference) return runReference(ra);
     if (*compare) return runCompare(ca);
     if (*info) return runInfo(infoScene, infoJson);
+    if (*viewCmd) return runView(va);
+    if (*studyCmd) return runStudy(sta);
+    if (*abCmd) return runAb(aba);
   } catch (const hr::InputError& e) {
     std::fprintf(stderr, "error: %s\n", hr::clipMessage(e.what()).c_str());
     return 2;

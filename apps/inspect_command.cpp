@@ -7,10 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 
 #include "extension_cli.h"
-#include "lobe_surface.h"
+#include "element_report.h"
 
 namespace {
 
@@ -50,41 +49,13 @@ int runInspect(const InspectArgs& a) {
     if (!hr::allFinite(x)) throw hr::InputError("--point: finite numbers only");
     id = leafAt(sol, x, a.solution);
   }
-  const hr::SolutionElement& e = sol.elements[id];
-  const hr::Patch& p = sol.patches[e.patch];
-  const hr::Material& m = sol.materials[p.material];
-  const double area = e.poly.area();
-  const hr::NodeId node{id};
-  auto lambertian = [&](const hr::Vec3& d) { return e.radiosity * (area * std::max(0.0, glm::dot(p.normal, d)) / hr::kPi); };
-  auto directional = [&](const hr::Vec3& d) { return ext ? ext->intensity(node, d) : hr::Rgb(0.0); };
-  hr::Rgb power = ext ? ext->reflectedPower(node) : hr::Rgb(0.0);
-  std::size_t coefficients = ext ? ext->coefficients(node) : 0;
-  if (!a.out.empty())
-    writeLobeSurface(a.out, {{"intensity", [&](const hr::Vec3& d) { return lambertian(d) + directional(d); }},
-                             {"lambertian_intensity", lambertian},
-                             {"directional_intensity", directional}});
-  auto rgb = [](const hr::Rgb& c) { return nlohmann::json::array({c.x, c.y, c.z}); };
-  nlohmann::json j;
-  j["element"] = id;
-  j["leaf"] = e.leaf();
-  j["level"] = e.level;
-  j["object"] = p.object;
-  j["material"] = m.name;
-  j["area_m2"] = area;
-  j["normal"] = rgb(p.normal);
-  j["radiosity_w_m2"] = rgb(e.radiosity);
-  j["extension"] = sol.extension.name.empty() ? "none" : sol.extension.name;
-  j["directional_coefficients"] = coefficients;
-  j["directional_power_w"] = rgb(power);
-  if (!a.out.empty()) j["lobe_file"] = a.out;
+  if (!a.out.empty()) writeLobeSurface(a.out, elementLobe(sol, ext.get(), id));
+  ElementReport r = reportElement(sol, ext.get(), id);
+  if (!a.out.empty()) r.json["lobe_file"] = a.out;
   if (a.json) {
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", r.json.dump(2).c_str());
   } else {
-    std::printf("element %u (%s, level %u) of object %u, material \"%s\", area %.6g m^2\n", id, e.leaf() ? "leaf" : "inner",
-                e.level, p.object, m.name.c_str(), area);
-    std::printf("  radiosity (Lambertian part): %.6g %.6g %.6g W/m^2\n", e.radiosity.x, e.radiosity.y, e.radiosity.z);
-    std::printf("  extension \"%s\": %zu directional coefficients, reflected power %.6g %.6g %.6g W\n",
-                sol.extension.name.empty() ? "none" : sol.extension.name.c_str(), coefficients, power.x, power.y, power.z);
+    std::printf("%s", r.text.c_str());
     if (!a.out.empty()) std::printf("  lobe (W/sr) written to %s\n", a.out.c_str());
   }
   return 0;

@@ -1,4 +1,4 @@
-// The lobe surface writer (see lobe_surface.h): the level-7 subdivided tetrahedron as the sphere.
+// Lobe surfaces (see lobe_surface.h): a subdivided tetrahedron as the sphere.
 #include "lobe_surface.h"
 
 #include <glossy/tetra.h>
@@ -12,8 +12,8 @@
 
 #include <algorithm>
 
-void writeLobeSurface(const std::string& path, const std::vector<LobeArray>& arrays) {
-  const glossy::TetraMesh& m = glossy::TetraMesh::get(7);
+vtkSmartPointer<vtkPolyData> lobeSurface(const std::vector<LobeArray>& arrays, int level) {
+  const glossy::TetraMesh& m = glossy::TetraMesh::get(level);
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
   std::vector<vtkNew<vtkDoubleArray>> data(arrays.size());
@@ -39,10 +39,14 @@ void writeLobeSurface(const std::string& path, const std::vector<LobeArray>& arr
     vtkIdType ids[3] = {vtkIdType(tri[0]), vtkIdType(tri[1]), vtkIdType(tri[2])};
     polys->InsertNextCell(3, ids);
   }
-  vtkNew<vtkPolyData> pd;
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
   pd->SetPoints(pts);
   pd->SetPolys(polys);
   for (auto& d : data) pd->GetPointData()->AddArray(d);
   if (!arrays.empty()) pd->GetPointData()->SetActiveScalars(arrays[0].name.c_str());
-  hr::writePolyData(pd, path);
+  return pd;
+}
+
+void writeLobeSurface(const std::string& path, const std::vector<LobeArray>& arrays) {
+  hr::writePolyData(lobeSurface(arrays, 7), path);
 }

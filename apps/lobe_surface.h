@@ -5,6 +5,9 @@
 #pragma once
 #include <hr/types.h>
 
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,5 +17,8 @@ struct LobeArray {
   std::function<hr::Rgb(const hr::Vec3&)> value;  // unit direction -> RGB
 };
 
-/// Writes the surface to path (.vtp, atomically); arrays[0] sets the radius.
+/// The surface on the subdivided tetrahedron of the given level (7: 65538 directions); arrays[0]
+/// sets the radius (its luminance, so W/sr become metres: scale it for display).
+vtkSmartPointer<vtkPolyData> lobeSurface(const std::vector<LobeArray>& arrays, int level = 7);
+/// Writes the level-7 surface to path (.vtp, atomically).
 void writeLobeSurface(const std::string& path, const std::vector<LobeArray>& arrays);

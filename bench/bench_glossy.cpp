@@ -54,16 +54,6 @@ double stat(const std::vector<hr::StatEntry>& s, const char* name) {
   return 0.0;
 }
 
-/// Objects that emit: left out of the image comparisons (their pixels measure the pixel filter).
-std::vector<std::uint32_t> lights(const hr::Scene& sc) {
-  std::vector<std::uint32_t> ids;
-  for (std::uint32_t i = 0; i < sc.objects.size(); ++i) {
-    const auto& m = sc.objects[i].material;
-    if (!m.empty() && sc.materials[sc.materialIndex.at(m)].emitter()) ids.push_back(i);
-  }
-  return ids;
-}
-
 Row solveAndCompare(const std::string& json, const Config& c, const hr::Image& reference) {
   hr::Scene sc = hr::parseScene(json, "bench");
   hr::TessellationReport rep;
@@ -90,7 +80,7 @@ Row solveAndCompare(const std::string& json, const Config& c, const hr::Image& r
   }
   hr::Solution sol = hr::makeSolution(sc, h, solver.radiosity());
   hr::Image img = hr::render(sol, sc.cameras.front(), ext.get());
-  ref::Metrics m = ref::compare(img, reference, -1, "solve", "reference", lights(sc));
+  ref::Metrics m = ref::compare(img, reference, -1, "solve", "reference", hr::emitterObjects(sc));
   r.relRmse = m.relRmse, r.meanRatio = m.meanRatio;
   r.ok = true;
   return r;

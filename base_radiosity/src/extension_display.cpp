@@ -2,6 +2,7 @@
 #include <hr/extension_display.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -59,34 +60,52 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
       useStart_.push_back(static_cast<std::uint32_t>(use_.size()));
     }
   }
+  memberArea_.resize(member_.size());
+  for (std::size_t m = 0; m < member_.size(); ++m) memberArea_[m] = s.elements[member_[m]].poly.area();
   value_.assign(member_.size(), Rgb(0.0));
   cornerValue_.assign(cornerVertex_.size(), Rgb(0.0));
 }
 
-void ExtensionDisplay::update(const Vec3& eye) {
+std::size_t ExtensionDisplay::update(const Vec3& eye, double thresholdDeg) {
+  // A vertex is due when it was never evaluated or its direction turned by more than the threshold;
+  // a threshold of 0 makes every vertex due (the still images' path, exactly as before thresholds).
+  const bool all = !(thresholdDeg > 0.0);
+  const float cosMin = static_cast<float>(std::cos(std::min(thresholdDeg, 180.0) * kPi / 180.0));
+  if (lastDir_.size() != pos_.size()) lastDir_.assign(pos_.size(), glm::vec3(0.0f));
+  fresh_.assign(pos_.size(), 0);
+  std::atomic<std::size_t> updated{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos_.size(), 256), [&](const auto& r) {
+    std::size_t count = 0;
     for (std::size_t v = r.begin(); v != r.end(); ++v) {
       Vec3 d = eye - pos_[v];
       double len = glm::length(d);
       d = len > 0.0 ? d / len : Vec3(0, 0, 1);
+      const glm::vec3 df(d);
+      if (!all && lastDir_[v] != glm::vec3(0.0f) && glm::dot(df, lastDir_[v]) >= cosMin) continue;
+      lastDir_[v] = df;
+      fresh_[v] = 1;
+      ++count;
       for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
         Rgb L = ext_.radiance(NodeId{member_[m]}, d);
         value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
       }
     }
+    updated += count;
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cornerValue_.size(), 1024), [&](const auto& r) {
     for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      if (!fresh_[cornerVertex_[c]]) continue;
       Rgb sum(0.0);
       double w = 0.0;
       for (std::uint32_t u = useStart_[c]; u < useStart_[c + 1]; ++u) {
-        double a = s_.elements[member_[use_[u]]].poly.area();
+        double a = memberArea_[use_[u]];
         sum += a * value_[use_[u]];
         w += a;
       }
       cornerValue_[c] = w > 0.0 ? sum / w : Rgb(0.0);
     }
   });
+  return updated.load();
 }
 
 Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x) const {

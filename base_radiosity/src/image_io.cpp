@@ -82,8 +82,7 @@ void writePng8(const std::vector<unsigned char>& rgb, int width, int height, con
   });
 }
 
-void writePng(const Image& img, const std::string& path) {
-  requireFinite(img, path);
+double pngExposure(const Image& img) {
   double sumLog = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < img.rgb.size(); i += 3) {
@@ -93,14 +92,22 @@ void writePng(const Image& img, const std::string& path) {
       ++n;
     }
   }
-  double exposure = n ? 0.18 / std::exp(sumLog / n) : 1.0;
+  return n ? 0.18 / std::exp(sumLog / n) : 1.0;
+}
+
+unsigned char toneMap8(double radiance, double exposure) {
+  double v = radiance * exposure;
+  v = v / (1.0 + v);
+  v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  return static_cast<unsigned char>(std::clamp(v * 255.0 + 0.5, 0.0, 255.0));
+}
+
+void writePng(const Image& img, const std::string& path) { writePng(img, path, pngExposure(img)); }
+
+void writePng(const Image& img, const std::string& path, double exposure) {
+  requireFinite(img, path);
   std::vector<unsigned char> px(img.rgb.size());
-  for (std::size_t i = 0; i < img.rgb.size(); ++i) {
-    double v = img.rgb[i] * exposure;
-    v = v / (1.0 + v);
-    v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-    px[i] = static_cast<unsigned char>(std::clamp(v * 255.0 + 0.5, 0.0, 255.0));
-  }
+  for (std::size_t i = 0; i < img.rgb.size(); ++i) px[i] = toneMap8(img.rgb[i], exposure);
   writePng8(px, img.width, img.height, path);
 }
 

@@ -1,6 +1,6 @@
 // Strict JSON parsing (see json_strict.h). The SAX handler forwards every event to nlohmann's own DOM
 // builder and keeps a stack of the containers it is in, for duplicate keys and for the key path.
-#include "json_strict.h"
+#include <hr/json_strict.h>
 
 #include <hr/echo.h>
 #include <hr/limits.h>

@@ -75,10 +75,28 @@ double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere)
   return senderUnit(s, l, std::max(hi, extensionBoundRaw(s, l))) - senderUnit(s, l, lo);
 }
 
+/// The luminance of a link's sender value, computed once per decision: the oracle reads it up to five
+/// times, and toward an element receiver a glossy sender's value integrates its distribution over
+/// the receiver (Extension::meanIntensity).
+class SenderLuminance {
+ public:
+  SenderLuminance(const SolverState& s, const Link& l) : s_(s), l_(l) {}
+  double operator()() const {
+    if (!known_) value_ = luminance(s_.senderValue(l_)), known_ = true;
+    return value_;
+  }
+
+ private:
+  const SolverState& s_;
+  const Link& l_;
+  mutable double value_ = 0.0;
+  mutable bool known_ = false;
+};
+
 /// The sender's value toward the receiver, or a cluster's peak intensity if that is more, plus the
 /// extension's bound when it simulates part of the sender (luminance).
-double senderBound(const SolverState& s, const Link& l, bool wholeSphere) {
-  double S = luminance(s.senderValue(l));
+double senderBound(const SolverState& s, const Link& l, bool wholeSphere, const SenderLuminance& value) {
+  double S = value();
   if (l.sender.isCluster()) S = std::max(S, s.peak[l.sender.index()]);
   if (s.ext && s.isOwned(l.sender)) S += extensionBound(s, l, wholeSphere);
   return S;
@@ -87,9 +105,9 @@ double senderBound(const SolverState& s, const Link& l, bool wholeSphere) {
 /// The oracle, part one: how much of the power the link brings may land in the wrong place on its
 /// receiver, W (luminance): the receiver's area times the sender's value times the transfer bound
 /// times its relative spread over the receiver. Compared with eps * emitted power.
-double placementError(const SolverState& s, const Link& l, bool wholeSphere) {
+double placementError(const SolverState& s, const Link& l, bool wholeSphere, const SenderLuminance& value) {
   double uncertainty = std::max<double>(l.spread, l.geom);
-  double S = senderBound(s, l, wholeSphere) * uncertainty;
+  double S = senderBound(s, l, wholeSphere, value) * uncertainty;
   // A directional sender may be much brighter toward part of the receiver than toward another (a
   // highlight landing on a wall): the link gives the whole receiver its value toward the centre, so
   // that variation is misplaced light too, and it is measured both ways: up to the cone's bound, and
@@ -109,12 +127,12 @@ double placementError(const SolverState& s, const Link& l, bool wholeSphere) {
 ///   emitted power. Dark links cost nothing here, so dark neighbourhoods stay coarse.
 /// Such errors are lost or created energy, not misplaced light, so they are held to kPowerTolerance
 /// of the emitted power even when eps is coarser (decide).
-double powerError(const SolverState& s, const Link& l, bool wholeSphere) {
+double powerError(const SolverState& s, const Link& l, bool wholeSphere, const SenderLuminance& value) {
   if (l.sender.isCluster() || l.receiver.isCluster()) {
     // With the sender's peak intensity: the model may get the direction wrong (a ceiling seen from a
     // lamp 1 mm below it, but above the ceiling's cluster centre, got nothing from it).
     double g = double(l.geom);
-    return catchingArea(s, l) * senderBound(s, l, wholeSphere) * l.bound * g * g;
+    return catchingArea(s, l) * senderBound(s, l, wholeSphere, value) * l.bound * g * g;
   }
   if (s.h.element(l.sender.index()).leaf()) return 0.0;
   return s.h.area(l.receiver) * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
@@ -129,9 +147,12 @@ Action decide(const SolverState& s, const Link& l, double threshold) {
   if (l.sender == l.receiver) return l.sender.isCluster() ? Action::SplitSelf : Action::Drop;
   bool cs = canSplit(s, l.sender), cr = canSplit(s, l.receiver);
   // Visibility still uncertain after all the rays a link may take (transfer.cpp): split it too.
-  bool sureOfVisibility = l.vsigma == 0.0f || unoccludedPower(s, l) * l.vsigma <= visibilityTolerance(s);
+  const SenderLuminance value(s, l);
+  // unoccludedPower (transfer.cpp) with the decision's sender value.
+  bool sureOfVisibility =
+      l.vsigma == 0.0f || catchingArea(s, l) * value() * double(l.bound) * l.vsigma <= visibilityTolerance(s);
   auto tooLarge = [&](bool wholeSphere) {
-    return powerError(s, l, wholeSphere) > powerThreshold || placementError(s, l, wholeSphere) > threshold;
+    return powerError(s, l, wholeSphere, value) > powerThreshold || placementError(s, l, wholeSphere, value) > threshold;
   };
   const bool glossy = s.ext && s.isOwned(l.sender);
   if ((cs || cr) && (!sureOfVisibility || (tooLarge(true) && (!glossy || tooLarge(false))))) {

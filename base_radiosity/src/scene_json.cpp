@@ -17,7 +17,7 @@
 #include <set>
 #include <sstream>
 
-#include "json_strict.h"
+#include <hr/json_strict.h>
 
 namespace hr {
 namespace {
@@ -325,6 +325,15 @@ glm::dmat4 Transform::matrix() const {
   m = glm::rotate(m, glm::radians(rotateDeg.x), Vec3(1, 0, 0));
   m = glm::scale(m, scale);
   return m;
+}
+
+std::vector<std::uint32_t> emitterObjects(const Scene& scene) {
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t i = 0; i < scene.objects.size(); ++i) {
+    const std::string& m = scene.objects[i].material;
+    if (!m.empty() && scene.materials[scene.materialIndex.at(m)].emitter()) ids.push_back(i);
+  }
+  return ids;
 }
 
 }  // namespace hr

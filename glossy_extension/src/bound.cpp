@@ -3,6 +3,7 @@
 // caps and cells meet with 1e-9 to spare in cosine, and the tetrahedron's bound is raised by 1e-12
 // relative for barycentric rounding.
 #include <glossy/bound.h>
+#include <glossy/cell_rules.h>
 
 #include <algorithm>
 
@@ -10,14 +11,17 @@ namespace glossy {
 
 namespace {
 
-void haarVisit(const HaarDistribution& d, std::uint32_t i, const FaceTri& t, const Cap& cone, Rgb& best) {
+/// Cells' hull caps from the upper cells' tables where they hold them (the same values).
+void haarVisit(const HaarDistribution& d, std::uint32_t i, const FaceTri& t, int face, int level, std::uint64_t index,
+               const Cap& cone, Rgb& best) {
   const auto& n = d.nodes()[i];
-  if (!Cap::around(t).overlaps(cone)) return;
+  if (!CellGeometry(t, face, level, index).cap.overlaps(cone)) return;
   if (n.child == 0) {
     if (meets(cone, t)) best = glm::max(best, Rgb(n.rgb[0], n.rgb[1], n.rgb[2]));
     return;
   }
-  for (std::uint32_t k = 0; k < 4; ++k) haarVisit(d, n.child + k, t.child(int(k)), cone, best);
+  for (std::uint32_t k = 0; k < 4; ++k)
+    haarVisit(d, n.child + k, t.child(int(k)), face, level + 1, 4 * index + k, cone, best);
 }
 
 void tetraVisit(const TetraDistribution& d, std::uint32_t index, const FaceTri& t, int level, const Cap& cone, Rgb& best) {
@@ -36,7 +40,7 @@ void tetraVisit(const TetraDistribution& d, std::uint32_t index, const FaceTri& 
 Rgb boundOver(const HaarDistribution& d, const Cap& cone) {
   if (cone.whole()) return d.peak();
   Rgb best(0.0);
-  for (int f = 0; f < 8; ++f) haarVisit(d, std::uint32_t(f), octaRoot(f), cone, best);
+  for (int f = 0; f < 8; ++f) haarVisit(d, std::uint32_t(f), octaRoot(f), f, 0, std::uint64_t(f), cone, best);
   return best;
 }
 

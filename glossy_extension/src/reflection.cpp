@@ -1,8 +1,8 @@
 // Reflecting a leaf's Illumination Samples: dropping and merging samples, the lobe sum, and the
-// projection into each basis (Haar through a hinted reference projection cut back to the stored
-// level; tetrahedron and spherical harmonics on a lobe limited to what they can hold).
+// projection into each basis (Haar by cell integrals at the stored levels, haar_lobes.cpp;
+// tetrahedron and spherical harmonics on a lobe limited to what they can hold).
 #include <glossy/brdf.h>
-#include <glossy/haar_sum.h>
+#include <glossy/haar_lobes.h>
 #include <glossy/reflection.h>
 
 #include <algorithm>
@@ -14,41 +14,12 @@ Rgb LobeSet::operator()(const Vec3& w) const {
   double c = glm::dot(normal, w);
   if (c <= 0.0) return Rgb(0.0);
   Rgb sum(0.0);
-  auto add = [&](const LobeSample& s) {
+  for (const LobeSample& s : samples) {
     double a = glm::dot(s.mirror, w);
     if (a > 0.0) sum += s.weight * std::pow(std::min(a, 1.0), exponent);
-  };
-  if (starts_.empty()) {
-    for (const LobeSample& s : samples) add(s);
-    evaluations += samples.size();
-  } else {
-    for (std::size_t k = starts_.back(); k < active_.size(); ++k) add(samples[active_[k]]);
-    evaluations += active_.size() - starts_.back();
   }
+  evaluations += samples.size();
   return c * sum;
-}
-
-void LobeSet::enter(const FaceTri& cell) const {
-  // Lobe j reaches the cell if its cap (where cos^n >= kCut) meets the cell's hull cap.
-  double cosSupport = exponent > 0.0 ? std::pow(kCut, 1.0 / exponent) : -1.0;
-  Cap support{Vec3(0, 0, 1), cosSupport, std::sqrt(std::max(0.0, 1.0 - cosSupport * cosSupport))};
-  Cap hull = Cap::around(cell);
-  std::size_t begin = active_.size();
-  auto consider = [&](std::uint32_t j) {
-    support.centre = samples[j].mirror;
-    if (support.overlaps(hull)) active_.push_back(j);
-  };
-  if (starts_.empty()) {
-    for (std::uint32_t j = 0; j < samples.size(); ++j) consider(j);
-  } else {
-    for (std::size_t k = starts_.back(), end = begin; k < end; ++k) consider(active_[k]);
-  }
-  starts_.push_back(begin);
-}
-
-void LobeSet::leave() const {
-  active_.resize(starts_.back());
-  starts_.pop_back();
 }
 
 double mergeAngle(double exponent) { return phongLobeWidth(exponent) / 16.0; }
@@ -143,22 +114,7 @@ AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCo
   AnyDistribution out;
   lobes.evaluations = 0;
   if (b.basis == Basis::Haar) {
-    const double width = phongLobeWidth(lobes.exponent);
-    std::vector<PeakHint> hints;
-    hints.reserve(lobes.samples.size());
-    for (const LobeSample& s : lobes.samples) hints.push_back({s.mirror, width});
-    // The reference is a quadrature of the lobes, finer than anything stored: relative eps at most
-    // 0.25, levels from 2 to one below where the hints stop (cells a quarter of the lobe's width) and
-    // one below the stored maximum, never past 12 (0.02 degrees). That keeps the power within 0.3 %
-    // for exponents 1 to 10^4 (glossy_extension/README.md). It is then re-projected on exact cell
-    // means with the stored options: the stored tree has the refiner's shape, the reference's power.
-    HaarOptions ref = b.haar;
-    ref.eps = std::min(b.haar.eps, 0.25);
-    ref.minLevel = std::max(b.haar.minLevel, 2);
-    ref.maxLevel = std::min(12, std::max(b.haar.maxLevel, hintLevel(width)) + 1);
-    HaarDistribution fine = HaarDistribution::project(lobes, ref, hints);
-    HaarTerm term{&fine, Frame::world()};
-    out = haarSum({&term, 1}, Frame::world(), b.haar);
+    out = projectLobesHaar(lobes, b.haar, lobes.evaluations);
   } else if (b.basis == Basis::Tetra) {
     out = TetraDistribution::project(lobes, b.tetraLevel);
   } else {

@@ -11,9 +11,26 @@ namespace ref {
 
 namespace {
 
-bool selected(const hr::Image& img, std::size_t i, long mask, const std::vector<std::uint32_t>& exclude) {
-  if (mask >= 0 && img.objectId[i] != static_cast<std::uint32_t>(mask)) return false;
-  return exclude.empty() || std::find(exclude.begin(), exclude.end(), img.objectId[i]) == exclude.end();
+/// The pixels compared. An excluded object takes the pixels bordering it along (8-neighbours): a
+/// pixel whose centre shows the ceiling may hold a sliver of the light panel beside it, and a sliver
+/// of a light 30 times brighter than the ceiling measures the pixel filters, not the solutions.
+std::vector<char> selection(const hr::Image& img, long mask, const std::vector<std::uint32_t>& exclude) {
+  const int W = img.width, H = img.height;
+  std::vector<char> keep(std::size_t(W) * H, 1);
+  if (mask < 0 && exclude.empty()) return keep;
+  auto excluded = [&](std::size_t i) {
+    return std::find(exclude.begin(), exclude.end(), img.objectId[i]) != exclude.end();
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      std::size_t i = std::size_t(y) * W + x;
+      if (mask >= 0 && img.objectId[i] != static_cast<std::uint32_t>(mask)) keep[i] = 0;
+      if (exclude.empty() || !excluded(i)) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (x + dx >= 0 && x + dx < W && y + dy >= 0 && y + dy < H) keep[std::size_t(y + dy) * W + x + dx] = 0;
+    }
+  return keep;
 }
 
 double lum(const hr::Image& img, std::size_t i) {
@@ -44,10 +61,11 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
                 const std::vector<std::uint32_t>& exclude) {
   checkPair(a, b, mask >= 0 || !exclude.empty(), nameA, nameB);
   const std::size_t P = std::size_t(a.width) * a.height;
+  const std::vector<char> keep = selection(a, mask, exclude);
   Metrics m;
   double se = 0.0, sae = 0.0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask, exclude)) continue;
+    if (!keep[i]) continue;
     double va = lum(a, i), vb = lum(b, i);
     ++m.pixels;
     m.meanA += va, m.meanB += vb;
@@ -66,7 +84,7 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   double rel = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask, exclude)) continue;
+    if (!keep[i]) continue;
     double vb = lum(b, i);
     if (vb <= 1e-3 * m.meanB) continue;
     rel += std::abs(lum(a, i) - vb) / vb;
@@ -80,9 +98,10 @@ void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::strin
                         const std::vector<std::uint32_t>& exclude) {
   Metrics m = compare(a, b, mask, "A", "B", exclude);
   const std::size_t P = std::size_t(a.width) * a.height;
+  const std::vector<char> keep = selection(a, mask, exclude);
   std::vector<unsigned char> px(3 * P, 128);
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask, exclude)) continue;
+    if (!keep[i]) continue;
     double t = m.meanB > 0.0 ? std::clamp((lum(a, i) - lum(b, i)) / (m.meanB * range), -1.0, 1.0) : 0.0;
     // White at 0, towards red (A brighter) or blue (A darker).
     double r = t < 0.0 ? 1.0 + t : 1.0, g = 1.0 - std::abs(t), bl = t > 0.0 ? 1.0 - t : 1.0;

@@ -34,6 +34,12 @@ Image readExr(const std::string& path);
 /// sRGB PNG, tone-mapped by a global exposure (key 0.18 over the log-average luminance) and
 /// Reinhard's x/(1+x): see README "Outputs".
 void writePng(const Image& img, const std::string& path);
+/// The same with a given exposure (the viewer keeps one for a whole session).
+void writePng(const Image& img, const std::string& path, double exposure);
+/// writePng's exposure for an image: 0.18 over its log-average luminance (1 for a black image).
+double pngExposure(const Image& img);
+/// writePng's tone curve for one channel: radiance (W/(m^2 sr)) times exposure, Reinhard, sRGB, 8 bits.
+unsigned char toneMap8(double radiance, double exposure);
 /// 8-bit RGB pixels as they are (no tone mapping): false-colour images.
 void writePng8(const std::vector<unsigned char>& rgb, int width, int height, const std::string& path);
 

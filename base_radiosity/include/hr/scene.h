@@ -88,6 +88,9 @@ struct Scene {
 /// Parses and validates a JSON scene. Throws InputError naming the file and key on any problem.
 Scene loadScene(const std::string& path);
 Scene parseScene(const std::string& jsonText, const std::string& path);
+/// Objects (indices in file order, as images' object ids) whose material emits: image comparisons
+/// leave them out, since their pixels measure the pixel filter on a bright edge, not the light.
+std::vector<std::uint32_t> emitterObjects(const Scene& scene);
 /// The built-in default scene (a Cornell-box-like room), used when no file is given.
 Scene defaultScene();
 extern const char* kDefaultSceneJson;

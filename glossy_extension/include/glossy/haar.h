@@ -3,9 +3,8 @@
 // one contiguous array. Eight roots (the octants), projection top-down: sample at a triangle's corners
 // and centre and subdivide while the spread is too large, always down to min_level, never past
 // max_level. Peak hints (the mirror directions of the light that made a glossy lobe) refine the cells
-// that hold them down to the lobe's width, so that a lobe narrower than the sampling is not missed.
-// A projected function may offer enter(cell)/leave() to be told the cell being built (so that it can
-// skip terms that cannot reach it); hints are narrowed per cell the same way.
+// that hold them down to the lobe's width, so that a lobe narrower than the sampling is not missed;
+// hints are narrowed per cell to those whose cap meets it.
 #pragma once
 #include <glossy/spherical_geometry.h>
 
@@ -139,12 +138,6 @@ struct HaarBuilder {
   std::vector<int> hintLevels;         // the level each hint refines to
   std::vector<std::uint32_t> active;   // stack of the hints that may reach the cell being built
 
-  /// A function may be told which cell is being built, to skip terms that cannot reach it.
-  static constexpr bool kScoped = requires(F& g, const FaceTri& c) {
-    g.enter(c);
-    g.leave();
-  };
-
   Rgb sample(const Vec3& d) {
     Rgb v = f(d);
     peak = std::max(peak, hr::maxComponent(glm::abs(v)));
@@ -176,13 +169,6 @@ struct HaarBuilder {
   }
   /// Builds node i for cell t whose corner samples are given; the parent's hints are [hb, he).
   void build(std::uint32_t i, const FaceTri& t, int level, const Rgb corner[3], std::size_t hb, std::size_t he) {
-    struct Scope {
-      F& g;
-      ~Scope() {
-        if constexpr (kScoped) g.leave();
-      }
-    } scope{f};
-    if constexpr (kScoped) f.enter(t);
     std::size_t mine = narrowHints(Cap::around(t), hb, he), mineEnd = active.size();
     Rgb s[4] = {corner[0], corner[1], corner[2], sample(t.centreDir())};
     bool split = level < o.maxLevel && (level < o.minLevel || hinted(mine, level) || wide(s));

@@ -4,10 +4,10 @@
 // (W/sr; the host keeps rho_d), projected into the leaf's directional basis. Samples whose mirror
 // directions nearly coincide are merged first (irradiance-weighted mean direction, summed irradiance;
 // see glossy_extension/README.md for what it costs). Projection never misses a highlight:
-// - Haar: a fine reference projection with a peak hint at every sample's mirror direction, refined
-//   down to the lobe's width, is re-projected with the stored options (dir-eps, levels) on exact cell
-//   means: every stored cell holds the reference's mean over it, so the power is the fine projection's
-//   even when the lobe is far narrower than a cell of dir-max-level.
+// - Haar: every stored cell gets the integral of the lobes over it, by a cell quadrature fine enough
+//   for the lobes' width (haar_lobes.h), and the stored tree is cut from these exact means with the
+//   stored options (dir-eps, levels): the power is the lobes' even when a lobe is far narrower than a
+//   cell of dir-max-level.
 // - Tetrahedron and spherical harmonics sample the lobe at fixed points, so a lobe narrower than their
 //   resolution would fall between the points: the exponent is first limited to what the basis can
 //   hold (representableExponent), which widens the lobe and keeps its normalisation.
@@ -33,21 +33,12 @@ struct ReflectCounts {
 };
 
 /// The lobes of one leaf: I(w) = max(0, normal.w) sum_j weight_j max(0, mirror_j.w)^exponent.
-/// While a Haar projection builds a cell (enter/leave), only lobes that reach the cell are summed: a
-/// lobe is left out where it is below 1e-7 of its own peak (kCut), which no stored value can show.
 struct LobeSet {
-  static constexpr double kCut = 1e-7;
   Vec3 normal{0, 0, 1};  // in the distribution's frame
   double exponent = 1.0;
   std::vector<LobeSample> samples;
   mutable std::uint64_t evaluations = 0;  // lobe evaluations (one BRDF evaluation each)
   Rgb operator()(const Vec3& w) const;
-  void enter(const FaceTri& cell) const;
-  void leave() const;
-
- private:
-  mutable std::vector<std::uint32_t> active_;  // stack of the lobes reaching the cells entered
-  mutable std::vector<std::size_t> starts_;    // where each entered cell's list starts
 };
 
 /// The widest angular bin (radians) in which samples are merged, for a lobe of this exponent: 1/16

@@ -21,7 +21,8 @@ struct Metrics {
 
 /// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, no
 /// pixel is left to compare, a pixel is not finite or negative, or the reference is black (mean 0).
-/// mask < 0: all pixels; exclude: objects whose pixels are left out (e.g. the light sources).
+/// mask < 0: all pixels; exclude: objects whose pixels, and the pixels bordering them, are left out
+/// (e.g. the light sources: their edges measure the pixel filters).
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
                 const std::string& nameB = "B", const std::vector<std::uint32_t>& exclude = {});
 

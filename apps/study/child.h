@@ -1,0 +1,24 @@
+// Runs glossyhr itself as a child process: a study solves each configuration in a process of its own,
+// so that the peak memory it reports is that configuration's alone and a crash is one row's failure.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace study {
+
+struct ChildResult {
+  int exitCode = -1;   // the child's exit code, or 128 + signal when it was killed by one
+  double seconds = 0;  // wall time, process start to exit
+};
+
+/// Runs `program` (searched on PATH when it has no slash) with `args`, stdout and stderr appended to
+/// `logPath`. Throws std::runtime_error when the process cannot be started.
+ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath);
+/// run() of this executable.
+ChildResult runSelf(const std::vector<std::string>& args, const std::string& logPath);
+
+/// Why a child failed: the first line of `logPath` that starts with "error", else its first line
+/// that is not a warning or a note.
+std::string failureReason(const std::string& logPath);
+
+}  // namespace study
