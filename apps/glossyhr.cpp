@@ -40,6 +40,7 @@ struct SolveArgs {
   std::optional<double> eps, tolerance;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
+  std::optional<double> maxImbalance;
   bool quiet = false, lambertian = false;
   ExtensionOptions extension;
 };
@@ -63,6 +64,7 @@ int runSolve(const SolveArgs& a) {
   checkFlag("--threads", a.threads, L::kThreads);
   checkFlag("--seed", a.seed, L::kSeed);
   const HostEntry& host = findHost(a.host);
+  checkFlag("--max-imbalance", a.maxImbalance, L::kMaxImbalance);
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
@@ -84,6 +86,7 @@ int runSolve(const SolveArgs& a) {
   if (a.maxIterations) opt.maxIterations = *a.maxIterations;
   if (a.tolerance) opt.tolerance = *a.tolerance;
   if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
+  if (a.maxImbalance) opt.maxImbalance = *a.maxImbalance;
   int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
@@ -113,6 +116,7 @@ int runSolve(const SolveArgs& a) {
   run.threads = threads;
   run.raysPerLink = opt.raysPerLink;
   run.seed = opt.seed;
+  run.maxImbalance = opt.maxImbalance;
   if (ext)
     for (const auto& e : ext->stats()) run.extension.emplace_back(e.name, e.value);
   hr::saveSolution(sol, out.path("solution.ghrs"));
@@ -132,9 +136,18 @@ int runSolve(const SolveArgs& a) {
                  static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
   }
+  if (!st.energyOk) {
+    hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
+    std::fprintf(stderr,
+                 "\n*** ENERGY CHECK FAILED: the answer is NOT trustworthy ***\n"
+                 "  the independent audit finds %.2f %% of the emitted power (green) unaccounted for "
+                 "(emitted - absorbed - escaped = %.4g W); allowed: %.4g W (--max-imbalance %g of the "
+                 "emitted power plus 3 standard errors of the audit)\n",
+                 100.0 * bal.y / std::max(st.emittedW.y, 1e-300), bal.y, st.allowedImbalanceW.y, opt.maxImbalance);
+  }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
   for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
-  return st.converged ? 0 : 3;
+  return st.converged && st.energyOk ? 0 : 3;
 }
 
 struct RenderArgs {
@@ -143,6 +156,7 @@ struct RenderArgs {
   double fov = 45.0;
   int width = 0, height = 0;
   bool quiet = false;
+  bool flat = false;  // each leaf's own radiosity, unsmoothed: separates solution error from display
 };
 
 /// The camera a render asks for: a named one of the solution's, or one made from --eye and
@@ -187,7 +201,11 @@ int runRender(const RenderArgs& a) {
   hr::SolutionView view(sol);
   std::unique_ptr<hr::Extension> ext = loadExtension(sol, view, a.solution);
   hr::OutputSet out(target.parent_path().string(), {target.filename().string()});
-  hr::Image img = hr::render(sol, cam, ext.get());
+  if (a.flat && ext) throw hr::InputError("--flat: draws the Lambertian radiosity alone; not for a solution with an extension");
+  hr::Image img = a.flat ? hr::render(sol, cam, [&](std::uint32_t leaf, const hr::Vec3&, const hr::Vec3&) {
+    return sol.elements[leaf].radiosity / hr::kPi;
+  })
+                         : hr::render(sol, cam, ext.get());
   if (kind == ".exr")
     hr::writeExr(img, out.path(target.filename().string()));
   else
@@ -213,6 +231,9 @@ int main(int argc, char** argv) {
   solve->add_option("--tolerance", sa.tolerance, "stop when the power change is below this fraction of emitted");
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
   solve->add_option("--seed", sa.seed, "random seed for shadow-ray sampling");
+  solve->add_option("--max-imbalance", sa.maxImbalance,
+                    "exit 3 when the energy audit finds more than this fraction of the emitted power unaccounted "
+                    "for (plus its noise); default 0.02");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
   solve->add_flag("--lambertian", sa.lambertian,
                   "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");
@@ -232,6 +253,7 @@ int main(int argc, char** argv) {
   render->add_option("--width", ra0.width, "a new camera's width, pixels")->check(CLI::Range(1, 16384));
   render->add_option("--height", ra0.height, "a new camera's height, pixels")->check(CLI::Range(1, 16384));
   render->add_option("-o,--output", ra0.image, "output image (.exr or .png)")->required();
+  render->add_flag("--flat", ra0.flat, "each leaf's own radiosity, unsmoothed (a diagnostic: solution vs display error)");
   render->add_flag("--quiet", ra0.quiet, "no progress on stderr");
   InspectArgs ia;
   auto* inspect = app.add_subcommand("inspect", "one element of a saved solution: its light and directional lobe");

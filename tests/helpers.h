@@ -17,6 +17,13 @@ inline const char* kParallelPlates = R"({
     { "type": "quad", "material": "e", "vertices": [[0,0,1],[0,1,1],[1,1,1],[1,0,1]] },
     { "type": "quad", "material": "r", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] } ] })";
 
+/// A closed unit cube, inward-facing, every face emitting L_e = 1 and reflecting rho: B = pi / (1 - rho).
+inline std::string furnace(double rho) {
+  const std::string r = std::to_string(rho);
+  return R"({ "materials": { "g": { "diffuse": [)" + r + "," + r + "," + r + R"(], "emission": [1,1,1] } },
+  "objects": [ { "type": "box", "material": "g", "min": [0,0,0], "max": [1,1,1], "facing": "inward" } ] })";
+}
+
 struct Solved {
   hr::Scene scene;
   std::unique_ptr<hr::Hierarchy> h;

@@ -149,6 +149,8 @@ std::vector<Case> cases() {
       {"max_iterations_0", "solve --max-iterations 0 -o {out}"}, {"tolerance_negative", "solve --tolerance -1 -o {out}"},
       {"seed_negative", "solve --seed -1 -o {out}"}, {"seed_2_pow_32", "solve --seed 4294967296 -o {out}"},
       {"rays_per_link_0", "solve --rays-per-link 0 -o {out}"},
+      {"max_imbalance_0", "solve --max-imbalance 0 -o {out}"}, {"max_imbalance_2", "solve --max-imbalance 2 -o {out}"},
+      {"max_imbalance_nan", "solve --max-imbalance nan -o {out}"},
       {"spp_negative", "reference --spp -1 -o {out}"}, {"time_nan", "reference --time-s nan -o {out}"},
       {"reference_threads_0", "reference --threads 0 -o {out}"}, {"max_depth_0", "reference --max-depth 0 -o {out}"},
       {"lobe_eps_negative", "lobe --eps -1"}, {"lobe_min_level_negative", "lobe --min-level -1"},

@@ -1,8 +1,8 @@
-// Solution snapshot, smooth reconstruction and point location.
+// Solution snapshot and point location (the smooth display reconstruction: reconstruct.cpp).
 #include <hr/solution.h>
 
 #include <cmath>
-#include <unordered_map>
+#include <limits>
 
 namespace hr {
 
@@ -22,56 +22,6 @@ Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<
   return s;
 }
 
-void reconstruct(Solution& s) {
-  // A solution saved for flat display (a "display" section saying "flat": one value per element, as
-  // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
-  if (const std::string* d = findSection(s, "display"); d && *d == "flat") {
-    s.cornerRadiosity.assign(s.elements.size(), {});
-    for (std::size_t i = 0; i < s.elements.size(); ++i) s.cornerRadiosity[i].fill(s.elements[i].radiosity);
-    return;
-  }
-  Aabb box;
-  for (const Patch& p : s.patches)
-    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
-  const double q = std::max(box.diagonal(), 1e-300) * 1e-7;
-  auto key = [&](const Vec3& p) {
-    auto c = [&](double v) { return static_cast<std::int64_t>(std::llround(v / q)); };
-    std::uint64_t k = static_cast<std::uint64_t>(c(p.x)) * 73856093ull ^ static_cast<std::uint64_t>(c(p.y)) * 19349663ull ^
-                      static_cast<std::uint64_t>(c(p.z)) * 83492791ull;
-    return k;
-  };
-  struct Entry {
-    std::uint32_t leaf;
-    Vec3 pos;
-  };
-  std::unordered_map<std::uint64_t, std::vector<Entry>> at;
-  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
-    const auto& e = s.elements[i];
-    if (!e.leaf()) continue;
-    for (int k = 0; k < e.poly.n; ++k) at[key(e.poly.v[k])].push_back({i, e.poly.v[k]});
-  }
-  const double cosMax = std::cos(30.0 * kPi / 180.0);
-  s.cornerRadiosity.assign(s.elements.size(), {});
-  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
-    const auto& e = s.elements[i];
-    if (!e.leaf()) continue;
-    const Vec3& n = s.patches[e.patch].normal;
-    for (int k = 0; k < e.poly.n; ++k) {
-      Rgb sum(0.0);
-      double w = 0.0;
-      for (const Entry& en : at[key(e.poly.v[k])]) {
-        const auto& o = s.elements[en.leaf];
-        if (glm::length(en.pos - e.poly.v[k]) > 2.0 * q) continue;  // hash collision
-        if (glm::dot(s.patches[o.patch].normal, n) < cosMax) continue;
-        double a = o.poly.area();
-        sum += a * o.radiosity;
-        w += a;
-      }
-      s.cornerRadiosity[i][k] = w > 0.0 ? sum / w : e.radiosity;
-    }
-  }
-}
-
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) {
   std::uint32_t e = patch;
   const Vec3& n = s.patches[patch].normal;
@@ -89,44 +39,6 @@ std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) 
     e = best;
   }
   return e;
-}
-
-Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
-  return interpolateCorners(s, leaf, x, s.cornerRadiosity[leaf]);
-}
-
-Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& cv) {
-  const auto& e = s.elements[leaf];
-  const Vec3& n = s.patches[e.patch].normal;
-  auto bary = [&](const Vec3& a, const Vec3& b, const Vec3& c, double& u, double& v, double& w) {
-    double area = glm::dot(glm::cross(b - a, c - a), n);
-    if (std::abs(area) < 1e-300) {
-      u = v = w = 1.0 / 3.0;
-      return;
-    }
-    u = glm::dot(glm::cross(b - x, c - x), n) / area;
-    v = glm::dot(glm::cross(c - x, a - x), n) / area;
-    w = 1.0 - u - v;
-  };
-  double u, v, w;
-  if (e.poly.n == 3) {
-    bary(e.poly.v[0], e.poly.v[1], e.poly.v[2], u, v, w);
-    u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
-    double t = std::max(u + v + w, 1e-300);
-    return (u * cv[0] + v * cv[1] + w * cv[2]) / t;
-  }
-  // Quads: four triangles around the centre, whose value is the mean of the corners.
-  Vec3 c = e.poly.centroid();
-  Rgb cc = 0.25 * (cv[0] + cv[1] + cv[2] + cv[3]);
-  for (int k = 0; k < 4; ++k) {
-    bary(e.poly.v[k], e.poly.v[(k + 1) % 4], c, u, v, w);
-    if ((u >= -1e-9 && v >= -1e-9 && w >= -1e-9) || k == 3) {
-      u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
-      double t = std::max(u + v + w, 1e-300);
-      return (u * cv[k] + v * cv[(k + 1) % 4] + w * cc) / t;
-    }
-  }
-  return cc;
 }
 
 }  // namespace hr

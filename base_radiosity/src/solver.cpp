@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
+#include "convergence.h"
 #include "solver_state.h"
 
 namespace hr {
@@ -24,6 +27,8 @@ SolverOptions SolverOptions::from(const Settings& s) {
   o.maxIterations = s.maxIterations;
   o.tolerance = s.tolerance;
   o.seed = s.seed;
+  const char* testOnly = std::getenv("GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS");
+  o.testOnlyUnblockedShadowRays = testOnly && std::string(testOnly) == "1";
   return o;
 }
 
@@ -79,6 +84,21 @@ struct Solver::Impl final : public HostView {
 
   static PhaseStat stat(const detail::PhaseClock& c) { return {c.wall, c.cpu, c.threads()}; }
 
+  /// One sweep's line in the progress log, and the progress bar.
+  void report(const SolveStats& st, const IterationStat& is) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "iteration %d (pass %d): residual %.3e W (%.2e of emitted), unconverged ~%.3e W, links %zu, elements %zu, split %zu",
+                  is.iteration, is.pass, is.residualW, is.residualW / std::max(s.emittedPower, 1e-300), is.unconvergedW,
+                  is.links, is.elements, is.refined);
+    progress->note(buf);
+    // Convergence as a percentage: how far the residual has fallen, on a log scale, from the
+    // first iteration's toward the tolerance.
+    double first = st.history.front().residualW, target = s.opt.tolerance * s.emittedPower;
+    if (first > target && is.residualW > 0.0)
+      progress->update(std::clamp(std::log(first / is.residualW) / std::log(first / target), 0.0, 1.0));
+  }
+
   SolveStats solve() {
     SolveStats st;
     auto t0 = std::chrono::steady_clock::now();
@@ -87,10 +107,13 @@ struct Solver::Impl final : public HostView {
     double totalArea = 0.0;
     for (const Patch& p : h.patches()) totalArea += p.area;
     s.minArea = s.opt.minArea > 0.0 ? s.opt.minArea : totalArea * 1e-6;
+    if (s.opt.testOnlyUnblockedShadowRays)
+      progress->note("TEST ONLY: shadow rays are never blocked (GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS=1): the answer is wrong on purpose");
     s.growArrays();
     markOwned();
     for (const Patch& p : h.patches()) st.emittedW += kPi * s.scene.materials[p.material].emission * p.area;
     s.emittedPower = luminance(st.emittedW);
+    detail::checkCanAbsorb(s);
     s.allocateTables();
     detail::pushPull(s);  // no links yet: cluster intensities from the emitters
     s.links.clear();
@@ -98,42 +121,39 @@ struct Solver::Impl final : public HostView {
     double rhoMean = 0.0;
     for (const Patch& p : h.patches()) rhoMean += luminance(s.scene.materials[p.material].diffuse) * p.area;
     rhoMean /= std::max(totalArea, 1e-300);
-    for (int it = 1; it <= s.opt.maxIterations; ++it) {
-      auto ti = std::chrono::steady_clock::now();
-      progress->phase("iteration " + std::to_string(it) + ": refine");
+    // Each pass refines the links, then sweeps over them (gather + push/pull) until the residual
+    // is below the tolerance: with acceleration (convergence.cpp) refinement, the costly part, runs
+    // a few times instead of once per sweep. Converged when a pass splits nothing and its sweeps
+    // reach the tolerance. With an extension attached every pass sweeps once (plain Jacobi).
+    detail::Accelerator acc(s, s.opt.acceleration);
+    const double target = s.opt.tolerance * s.emittedPower;
+    int it = 0;
+    for (int pass = 1; it < s.opt.maxIterations; ++pass) {
+      progress->phase("pass " + std::to_string(pass) + ": refine");
       std::size_t refined = detail::refineLinks(s);
       if (s.ext) s.ext->attach(*this);
-      progress->phase("iteration " + std::to_string(it) + ": gather");
-      std::copy(s.B.begin(), s.B.end(), s.Bprev.begin());
-      detail::gatherLinks(s);
-      detail::pushPull(s);
+      acc.restart();
       double res = 0.0;
-      for (std::uint32_t p = 0; p < h.patches().size(); ++p)
-        res += h.patches()[p].area * std::abs(luminance(s.B[p] - s.Bprev[p]));
-      if (s.ext) res += s.ext->powerChange();  // the extension's light converges too
-      IterationStat is;
-      is.iteration = it;
-      is.residualW = res;
-      is.unconvergedW = res * rhoMean / std::max(1e-6, 1.0 - rhoMean);
-      is.links = s.links.size();
-      is.elements = h.elements().size();
-      is.refined = refined;
-      is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
-      st.history.push_back(is);
-      st.iterations = it;
-      char buf[256];
-      std::snprintf(buf, sizeof buf,
-                    "iteration %d: residual %.3e W (%.2e of emitted), unconverged ~%.3e W, links %zu, elements %zu, split %zu",
-                    it, res, res / std::max(s.emittedPower, 1e-300), is.unconvergedW, s.links.size(),
-                    h.elements().size(), refined);
-      progress->note(buf);
-      // Convergence as a percentage: how far the residual has fallen, on a log scale, from the
-      // first iteration's toward the tolerance.
-      double first = st.history.front().residualW, target = s.opt.tolerance * s.emittedPower;
-      if (first > target && res > 0.0)
-        progress->update(std::clamp(std::log(first / res) / std::log(first / target), 0.0, 1.0));
-      if (!std::isfinite(res)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
-      if (refined == 0 && res <= s.opt.tolerance * s.emittedPower) {
+      do {
+        ++it;
+        auto ti = std::chrono::steady_clock::now();
+        progress->phase("iteration " + std::to_string(it) + ": gather");
+        res = acc.sweep();
+        IterationStat is;
+        is.iteration = it;
+        is.pass = pass;
+        is.residualW = res;
+        is.unconvergedW = res * rhoMean / std::max(1e-6, 1.0 - rhoMean);
+        is.links = s.links.size();
+        is.elements = h.elements().size();
+        is.refined = st.history.empty() || st.history.back().pass != pass ? refined : 0;
+        is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
+        st.history.push_back(is);
+        st.iterations = it;
+        report(st, is);
+        if (!std::isfinite(res)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
+      } while (res > target && it < s.opt.maxIterations && acc.extrapolate());
+      if (refined == 0 && res <= target) {
         st.converged = true;
         break;
       }
@@ -146,6 +166,9 @@ struct Solver::Impl final : public HostView {
     st.escapedW = audit.escapedW;
     st.backAbsorbedW = audit.backAbsorbedW;
     st.auditStdErrW = audit.escapedStdErrW;
+    // Honest reporting: the audit measures where the power went independently of the links; an
+    // imbalance beyond what the options allow plus the audit's own noise makes the answer untrustworthy.
+    judgeEnergy(st, s.opt.maxImbalance);
     st.visibility = stat(s.clkVisibility);
     st.refine = stat(s.clkRefine);
     st.gather = stat(s.clkGather);

@@ -32,7 +32,6 @@ void SolverState::growArrays() {
   std::size_t n = h.elements().size();
   std::size_t old = B.size();
   B.resize(n);
-  Bprev.resize(n);
   Eg.resize(n, Rgb(0.0));
   Et.resize(n, Rgb(0.0));
   owned.resize(n, 0);
@@ -41,7 +40,6 @@ void SolverState::growArrays() {
   for (std::size_t i = old; i < n; ++i) {
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
-    Bprev[i] = B[i];
     Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
     owned[i] = e.parent == kNone ? 0 : owned[e.parent];
     Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));

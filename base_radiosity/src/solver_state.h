@@ -59,7 +59,7 @@ struct SolverState {
   SolverOptions opt;
   Extension* ext;
 
-  std::vector<Rgb> B, Bprev, Eg, Et;  // per element: radiosity, previous, gathered, total irradiance
+  std::vector<Rgb> B, Eg, Et;         // per element: radiosity, gathered and total irradiance
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
   std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
   std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly
@@ -130,6 +130,10 @@ void gatherLinks(SolverState& s);
 void pushPull(SolverState& s);
 /// Cluster intensities from the current radiosity alone (before the first gather).
 void pullOnly(SolverState& s);
+
+/// Throws InputError naming the scene when it cannot absorb any of some emitted channel (no finite
+/// solution; absorption.cpp).
+void checkCanAbsorb(const SolverState& s);
 
 struct AuditResult {
   Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};

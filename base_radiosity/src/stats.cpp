@@ -1,5 +1,6 @@
 // stats.json: what ran, how long each phase took, what it built, and where the energy went.
 #include <hr/output.h>
+#include <hr/solver.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -47,7 +48,12 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
                  {"absorbed_back_faces_w", rgb(st.backAbsorbedW)},
                  {"escaped_w", rgb(st.escapedW)},
                  {"audit_std_error_w", rgb(st.auditStdErrW)},
-                 {"imbalance_w", rgb(bal)}};
+                 {"imbalance_w", rgb(bal)},
+                 {"allowed_imbalance_w", rgb(st.allowedImbalanceW)}};
+  // Whether the audit's imbalance is within what the solution may be off by (SolveStats):
+  // false means the answer is not trustworthy, and `glossyhr solve` exits 3.
+  j["energy_ok"] = st.energyOk;
+  j["max_imbalance"] = run.maxImbalance;
   if (!run.extension.empty()) {
     json ext = json::object();
     for (const auto& [name, value] : run.extension) ext[name] = std::isfinite(value) ? json(value) : json(nullptr);
@@ -57,10 +63,16 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["converged"] = st.converged;
   json hist = json::array();
   for (const auto& h : st.history)
-    hist.push_back({{"iteration", h.iteration}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
+    hist.push_back({{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
                     {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"seconds", h.seconds}});
   j["history"] = hist;
   return j.dump(2) + "\n";
+}
+
+void judgeEnergy(SolveStats& st, double maxImbalance) {
+  st.allowedImbalanceW = maxImbalance * st.emittedW + 3.0 * st.auditStdErrW;
+  for (int c = 0; c < 3; ++c)
+    st.energyOk = st.energyOk && std::abs(st.emittedW[c] - st.absorbedW[c] - st.escapedW[c]) <= st.allowedImbalanceW[c];
 }
 
 }  // namespace hr

@@ -94,6 +94,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
     }
   }
   s.vis.occluded(from, to, n, blocked);
+  if (s.opt.testOnlyUnblockedShadowRays) std::fill(blocked, blocked + n, false);  // (test only: SolverOptions)
   for (int j = 0; j < n; ++j) blocked[j] = blocked[j] || hidden[j];
   // The visible fraction weights each ray by the point-to-point kernel cos cos / r^2: weighting
   // by area alone took an occluder that hides the far half of a sender for hiding half of the
@@ -139,6 +140,7 @@ RayCount evaluateClusterLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, do
     liftPair(s, x, nf[k], y, nt[k], from[k], to[k]);
   }
   s.vis.occluded(from, to, K, blocked);
+  if (s.opt.testOnlyUnblockedShadowRays) std::fill(blocked, blocked + K, false);  // (test only: SolverOptions)
   for (int k = 0; k < K; ++k) blocked[k] = blocked[k] || hidden[k];
   // The link moves light as the sender's intensity toward the receiver over the squared distance
   // between centroids, with the cosines of the centre direction: a far-field model whose error the

@@ -130,6 +130,9 @@ struct Solver::Impl {
       a = detail::auditEnergy(s);
     }
     st.absorbedW = a.absorbed, st.escapedW = a.escaped, st.backAbsorbedW = a.back, st.auditStdErrW = a.stdErr;
+    // The same honest-reporting rule as the BRIGHT-like host: beyond --max-imbalance plus the
+    // audit's own noise the answer is not trustworthy (exit 3).
+    judgeEnergy(st, s.opt.maxImbalance);
     // Shadow rays are traced inside the shooting tasks: their share of the shooting threads' time.
     const double threadNs = 1e9 * st.refine.cpu;
     visShare = threadNs > 0.0 ? std::min(1.0, double(s.visibilityNs.load()) / threadNs) : 0.0;

@@ -49,7 +49,7 @@ void writeVtp(const Solution& s, const std::string& path, const Extension* ext =
 
 struct RunInfo {
   std::string scene, host = "bright", algorithm = "diffuse";
-  double eps = 0;
+  double eps = 0, maxImbalance = 0.02;
   int maxLevel = 0, threads = 1, raysPerLink = 0;
   std::uint64_t seed = 0;
   std::vector<std::pair<std::string, double>> extension;  // the extension's own figures

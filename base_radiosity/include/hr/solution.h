@@ -54,8 +54,10 @@ const std::string* findSection(const Solution& s, const std::string& name);
 
 Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<Rgb>& radiosity);
 
-/// Smooth reconstruction: each leaf corner takes the area-weighted mean radiosity of the leaves that
-/// share that point and face within 30 degrees of it (creases and touching objects stay sharp).
+/// Smooth reconstruction without bias (reconstruct.cpp): each leaf corner takes the area-weighted mean
+/// radiosity of the leaves of the same object and material that share that point and face within 30
+/// degrees of it (creases, objects, materials and emitters stay sharp), hidden leaves (a surface
+/// just in front, or a coplanar cover) left out of visible leaves' corners.
 /// A solution with a "display" section reading "flat" keeps each element's own value instead.
 void reconstruct(Solution& s);
 

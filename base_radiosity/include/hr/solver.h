@@ -19,13 +19,22 @@ struct SolverOptions {
   int raysPerLink = 4;
   int maxIterations = 200;
   double tolerance = 1e-4;    // converged when the iteration's power change < tolerance * emitted
+  int acceleration = 5;       // Anderson mixing depth over fixed links (0: one plain sweep per pass)
+  double maxImbalance = 0.02;  // the energy audit may find at most this fraction of the emitted
+                               // power unaccounted for (plus 3 of its standard errors), else energyOk
+                               // is false
+  /// TEST ONLY: every shadow ray reports the way clear, so occluders do not occlude and the answer
+  /// is wrong on purpose; the energy audit must catch it. Set by SolverOptions::from() when the
+  /// environment variable GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS is 1. Never for real runs.
+  bool testOnlyUnblockedShadowRays = false;
   std::uint64_t seed = 1;
   static SolverOptions from(const Settings& s);
 };
 
 struct IterationStat {
-  int iteration = 0;
-  double residualW = 0.0;      // sum over patches of area * |B_new - B_old| (luminance), W
+  int iteration = 0;           // sweep (gather + push/pull), counted over the whole solve
+  int pass = 0;                // refinement pass the sweep belongs to
+  double residualW = 0.0;      // sum over leaves of area * |B_new - B_old| (luminance), W
   double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
   std::size_t links = 0, elements = 0, refined = 0;
   double seconds = 0.0;
@@ -48,6 +57,10 @@ struct SolveStats {
   Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel
   Rgb backAbsorbedW{0.0};  // the part of absorbedW that reached the black back of a one-sided surface
   Rgb auditStdErrW{0.0};   // standard error of the audit's ray estimate (escaped and back faces), W
+  /// What the audit's imbalance (emitted - absorbed - escaped) may be per channel, W: the options'
+  /// maxImbalance of the emitted power plus 3 standard errors of the audit's own estimate.
+  Rgb allowedImbalanceW{0.0};
+  bool energyOk = true;    // every channel's |imbalance| within allowedImbalanceW
   int iterations = 0;
   bool converged = false;
   std::vector<IterationStat> history;
@@ -70,5 +83,9 @@ class Solver {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Honest reporting, the same for every host: the audit's imbalance beyond maxImbalance of the
+/// emitted power plus 3 of the audit's standard errors, in any channel, clears energyOk.
+void judgeEnergy(SolveStats& st, double maxImbalance);
 
 }  // namespace hr

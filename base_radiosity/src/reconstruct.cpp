@@ -1,0 +1,135 @@
+// Smooth display of the Lambertian radiosity without bias (issue 10, item 4).
+//
+// A leaf corner takes the area-weighted mean radiosity of the leaves that share the point, face
+// within 30 degrees of it and belong to the same object and material: light never blends across
+// objects, materials or emitters (a lamp flush with a ceiling must not halo onto it). Nor does a
+// visible leaf take the radiosity of a hidden one: a leaf with a surface in front of it closer than
+// a tenth of its size (the ceiling 1 mm above the Cornell box's lamp, a floor under a box standing
+// on it) or under a coplanar cover is dark for a reason that stops at its edge, a discontinuity of
+// the radiosity, which averaging smeared as a dark ring onto the visible neighbours: measured on
+// the Cornell box, the ceiling drew 1.7 % darker than its own leaves and the floor 0.6 %; the
+// image 0.3 %. (A centre value per leaf that keeps each leaf's drawn mean exact was tried: unbiased
+// by construction, but it drew element-sized ripples wherever corners and mean disagree.)
+#include <hr/solution.h>
+#include <hr/visibility.h>
+
+#include <cmath>
+#include <unordered_map>
+
+namespace hr {
+
+namespace {
+
+/// Leaves hidden by a surface just in front of them (see the header), 1, else 0.
+std::vector<char> hiddenLeaves(const Solution& s) {
+  Visibility vis(s.patches);
+  std::vector<char> hidden(s.elements.size(), 0);
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+    const auto& e = s.elements[i];
+    if (!e.leaf()) continue;
+    const Vec3 c = e.poly.centroid();
+    if (vis.coverOf(e.patch, c) != kNone) {
+      hidden[i] = 1;
+      continue;
+    }
+    SurfaceHit hit = vis.intersectFrom(c, s.patches[e.patch].normal, e.patch);
+    hidden[i] = hit.hit && hit.t < 0.1 * std::sqrt(e.poly.area()) ? 1 : 0;
+  }
+  return hidden;
+}
+
+}  // namespace
+
+void reconstruct(Solution& s) {
+  // A solution saved for flat display (a "display" section saying "flat": one value per element, as
+  // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
+  if (const std::string* d = findSection(s, "display"); d && *d == "flat") {
+    s.cornerRadiosity.assign(s.elements.size(), {});
+    for (std::size_t i = 0; i < s.elements.size(); ++i) s.cornerRadiosity[i].fill(s.elements[i].radiosity);
+    return;
+  }
+  Aabb box;
+  for (const Patch& p : s.patches)
+    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+  const double q = std::max(box.diagonal(), 1e-300) * 1e-7;
+  auto key = [&](const Vec3& p) {
+    auto c = [&](double v) { return static_cast<std::int64_t>(std::llround(v / q)); };
+    std::uint64_t k = static_cast<std::uint64_t>(c(p.x)) * 73856093ull ^ static_cast<std::uint64_t>(c(p.y)) * 19349663ull ^
+                      static_cast<std::uint64_t>(c(p.z)) * 83492791ull;
+    return k;
+  };
+  struct Entry {
+    std::uint32_t leaf;
+    Vec3 pos;
+  };
+  std::unordered_map<std::uint64_t, std::vector<Entry>> at;
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+    const auto& e = s.elements[i];
+    if (!e.leaf()) continue;
+    for (int k = 0; k < e.poly.n; ++k) at[key(e.poly.v[k])].push_back({i, e.poly.v[k]});
+  }
+  const double cosMax = std::cos(30.0 * kPi / 180.0);
+  s.cornerRadiosity.assign(s.elements.size(), {});
+  const std::vector<char> hidden = hiddenLeaves(s);
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+    const auto& e = s.elements[i];
+    if (!e.leaf()) continue;
+    const Patch& pe = s.patches[e.patch];
+    for (int k = 0; k < e.poly.n; ++k) {
+      Rgb sum(0.0);
+      double w = 0.0;
+      for (const Entry& en : at[key(e.poly.v[k])]) {
+        const auto& o = s.elements[en.leaf];
+        const Patch& po = s.patches[o.patch];
+        if (glm::length(en.pos - e.poly.v[k]) > 2.0 * q) continue;  // hash collision
+        if (glm::dot(po.normal, pe.normal) < cosMax) continue;
+        if (po.object != pe.object || po.material != pe.material) continue;
+        if (hidden[en.leaf] && !hidden[i]) continue;
+        double a = o.poly.area();
+        sum += a * o.radiosity;
+        w += a;
+      }
+      s.cornerRadiosity[i][k] = w > 0.0 ? sum / w : e.radiosity;
+    }
+  }
+}
+
+Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
+  return interpolateCorners(s, leaf, x, s.cornerRadiosity[leaf]);
+}
+
+Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& cv) {
+  const auto& e = s.elements[leaf];
+  const Vec3& n = s.patches[e.patch].normal;
+  auto bary = [&](const Vec3& a, const Vec3& b, const Vec3& c, double& u, double& v, double& w) {
+    double area = glm::dot(glm::cross(b - a, c - a), n);
+    if (std::abs(area) < 1e-300) {
+      u = v = w = 1.0 / 3.0;
+      return;
+    }
+    u = glm::dot(glm::cross(b - x, c - x), n) / area;
+    v = glm::dot(glm::cross(c - x, a - x), n) / area;
+    w = 1.0 - u - v;
+  };
+  double u, v, w;
+  if (e.poly.n == 3) {
+    bary(e.poly.v[0], e.poly.v[1], e.poly.v[2], u, v, w);
+    u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
+    double t = std::max(u + v + w, 1e-300);
+    return (u * cv[0] + v * cv[1] + w * cv[2]) / t;
+  }
+  // Quads: four triangles around the centre, whose value is the mean of the corners.
+  Vec3 c = e.poly.centroid();
+  Rgb cc = 0.25 * (cv[0] + cv[1] + cv[2] + cv[3]);
+  for (int k = 0; k < 4; ++k) {
+    bary(e.poly.v[k], e.poly.v[(k + 1) % 4], c, u, v, w);
+    if ((u >= -1e-9 && v >= -1e-9 && w >= -1e-9) || k == 3) {
+      u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
+      double t = std::max(u + v + w, 1e-300);
+      return (u * cv[k] + v * cv[(k + 1) % 4] + w * cc) / t;
+    }
+  }
+  return cc;
+}
+
+}  // namespace hr

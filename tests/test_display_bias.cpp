@@ -1,0 +1,168 @@
+// Display reconstruction without bias (issue 10, item 4). The smooth image of a solution must show
+// each object as bright as the solution's own leaves do (a flat render: each leaf its radiosity);
+// light never blends across objects, materials or emitters, nor from hidden leaves onto visible ones.
+// And the image converges to the project's own path tracer as the threshold falls.
+#include <gtest/gtest.h>
+#include <hr/output.h>
+#include <hr/solution.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <map>
+
+#include "helpers.h"
+#include "test_dir.h"
+
+namespace {
+
+/// Mean luminance of the pixels showing each object.
+std::map<std::uint32_t, double> objectMeans(const hr::Image& img) {
+  std::map<std::uint32_t, std::pair<double, int>> acc;
+  for (std::size_t i = 0; i < img.objectId.size(); ++i) {
+    if (img.objectId[i] == hr::kNone) continue;
+    auto& [sum, n] = acc[img.objectId[i]];
+    sum += hr::luminance(hr::Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]));
+    ++n;
+  }
+  std::map<std::uint32_t, double> out;
+  for (const auto& [id, a] : acc) out[id] = a.first / a.second;
+  return out;
+}
+
+hr::Solution solveToSolution(const std::string& json, double eps) {
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = eps;
+  auto s = testutil::solveText(json, o);
+  return hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
+}
+
+// Before: the ceiling's leaves hidden 1 mm above the lamp darkened a ring around it (ceiling 1.7 %
+// darker smooth than flat, floor 0.6 %). Measured now: within 0.2 % on every object.
+TEST(DisplayBias, SmoothShowsEachObjectAsBrightAsItsLeaves) {
+  hr::Solution sol = solveToSolution(hr::kDefaultSceneJson, 2e-4);
+  const hr::Camera& cam = sol.cameras.at(0);
+  hr::Image smooth = hr::render(sol, cam);
+  hr::Image flat = hr::render(sol, cam, [&](std::uint32_t leaf, const hr::Vec3&, const hr::Vec3&) {
+    return sol.elements[leaf].radiosity / hr::kPi;
+  });
+  auto ms = objectMeans(smooth), mf = objectMeans(flat);
+  ASSERT_EQ(ms.size(), mf.size());
+  for (const auto& [id, m] : mf) EXPECT_NEAR(ms[id] / m, 1.0, 0.005) << "object " << id;
+}
+
+// A lamp flush with (coplanar on) a ceiling, and a red tile flush beside a white one: no corner of
+// the ceiling or the white tile takes light from the other material or from the lamp, nor from the
+// ceiling's leaves that the lamp covers.
+TEST(DisplayBias, NeverBlendsAcrossObjectsMaterialsOrEmitters) {
+  const char* json = R"({
+  "materials": { "w": { "diffuse": [0.7,0.7,0.7] }, "r": { "diffuse": [0.7,0.1,0.1] },
+                 "l": { "diffuse": [0.7,0.7,0.7], "emission": [10,10,10] } },
+  "objects": [
+    { "type": "quad", "material": "w", "vertices": [[0,1,0],[2,1,0],[2,1,2],[0,1,2]] },
+    { "type": "quad", "material": "l", "vertices": [[0.75,1,0.75],[1.25,1,0.75],[1.25,1,1.25],[0.75,1,1.25]] },
+    { "type": "quad", "material": "w", "vertices": [[0,0,0],[0,0,2],[1,0,2],[1,0,0]] },
+    { "type": "quad", "material": "r", "vertices": [[1,0,0],[1,0,2],[2,0,2],[2,0,0]] } ] })";
+  hr::Solution sol = solveToSolution(json, 1e-3);
+  std::map<std::uint32_t, std::pair<hr::Rgb, hr::Rgb>> range;  // per object: min and max leaf radiosity
+  for (const auto& e : sol.elements) {
+    if (!e.leaf()) continue;
+    const std::uint32_t obj = sol.patches[e.patch].object;
+    auto it = range.find(obj);
+    if (it == range.end()) it = range.emplace(obj, std::make_pair(hr::Rgb(1e300), hr::Rgb(0.0))).first;
+    it->second.first = glm::min(it->second.first, e.radiosity);
+    it->second.second = glm::max(it->second.second, e.radiosity);
+  }
+  ASSERT_EQ(range.size(), 4u);
+  for (std::size_t i = 0; i < sol.elements.size(); ++i) {
+    const auto& e = sol.elements[i];
+    if (!e.leaf()) continue;
+    const auto& [lo, hi] = range[sol.patches[e.patch].object];
+    for (int k = 0; k < e.poly.n; ++k)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(sol.cornerRadiosity[i][k][c], lo[c] * (1 - 1e-9)) << "leaf " << i;
+        EXPECT_LE(sol.cornerRadiosity[i][k][c], hi[c] * (1 + 1e-9)) << "leaf " << i;
+      }
+  }
+  // The lamp's light never reaches the ceiling's corners: they stay far below the lamp's pi L_e.
+  for (std::size_t i = 0; i < sol.elements.size(); ++i) {
+    if (!sol.elements[i].leaf() || sol.patches[sol.elements[i].patch].object != 0) continue;
+    for (int k = 0; k < sol.elements[i].poly.n; ++k) EXPECT_LT(sol.cornerRadiosity[i][k].y, 1.0);
+  }
+}
+
+}  // namespace
+
+namespace {
+
+struct ImageError {
+  double meanRatio = 0.0;   // luminance, the lamp left out
+  double worstObject = 0.0;  // largest |object mean ratio - 1|
+  std::uint32_t worstId = hr::kNone;
+};
+
+/// Image a against the reference, the lamp masked with a margin of 2 pixels: the object id comes
+/// from a pixel's centre, and a pixel whose edge the lamp (100 times brighter) only touches is its
+/// neighbour's by id but the lamp's by value, so that where the 3 x 3 grid and the tracer's samples
+/// cover a different sliver of it, the ceiling around the lamp moved by 12 % at 160 x 160.
+ImageError against(const hr::Image& a, const hr::Image& ref, std::uint32_t lamp) {
+  std::vector<char> masked(a.objectId.size(), 0);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      if (a.objectId[std::size_t(y) * a.width + x] == lamp)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if (u >= 0 && v >= 0 && u < a.width && v < a.height) masked[std::size_t(v) * a.width + u] = 1;
+          }
+  std::map<std::uint32_t, std::pair<double, double>> acc;
+  double sa = 0.0, sr = 0.0;
+  for (std::size_t i = 0; i < a.objectId.size(); ++i) {
+    const std::uint32_t id = a.objectId[i];
+    if (id == hr::kNone || masked[i]) continue;
+    const double la = hr::luminance(hr::Rgb(a.rgb[3 * i], a.rgb[3 * i + 1], a.rgb[3 * i + 2]));
+    const double lr = hr::luminance(hr::Rgb(ref.rgb[3 * i], ref.rgb[3 * i + 1], ref.rgb[3 * i + 2]));
+    sa += la, sr += lr;
+    acc[id].first += la, acc[id].second += lr;
+  }
+  ImageError e;
+  e.meanRatio = sa / sr;
+  for (const auto& [id, s] : acc)
+    if (std::abs(s.first / s.second - 1.0) > e.worstObject) e.worstObject = std::abs(s.first / s.second - 1.0), e.worstId = id;
+  return e;
+}
+
+// The Cornell box against `glossyhr reference` (512 spp at 160 x 160: the mean's standard error is
+// about 1e-4), the lamp masked. Measured: mean ratio 0.990 / 0.995 and worst object 2.4 / 1.3 % at
+// eps 2e-4 / 5e-5 (at 320 x 320 against 2048 spp, eps 1e-5: 0.996). Flat and smooth renders agree,
+// so the remaining error is the solution's; it falls with eps and does not stall (it did at 0.990).
+// The issue's goal at the default eps, 0.5 % and 1 % per object, is NOT met yet: the bounds below
+// hold the measured figures, so that a regression shows. About 30 s: a path-traced reference.
+TEST(DisplayBias, CornellConvergesToThePathTracer) {
+  auto dir = testutil::testDir();
+  std::string json = hr::kDefaultSceneJson;
+  const std::string size = "\"width\": 320, \"height\": 320";
+  ASSERT_NE(json.find(size), std::string::npos);
+  json.replace(json.find(size), size.size(), "\"width\": 160, \"height\": 160");
+  std::ofstream(dir / "cb.json") << json;
+  const std::string scene = (dir / "cb.json").string();
+  std::string text;
+  ASSERT_EQ(testutil::runCli("reference " + scene + " --spp 512 --seed 3 --quiet -o " + (dir / "ref").string(), text), 0) << text;
+  hr::Image ref = hr::readExr((dir / "ref" / "front.exr").string());
+  ImageError err[2];
+  const char* eps[2] = {"2e-4", "5e-5"};
+  for (int k = 0; k < 2; ++k) {
+    const auto out = dir / eps[k];
+    ASSERT_EQ(testutil::runCli("solve " + scene + " --eps " + eps[k] + " --quiet -o " + out.string(), text), 0) << text;
+    err[k] = against(hr::readExr((out / "front.exr").string()), ref, 5);
+    std::printf("eps %s: mean ratio %.4f, worst object %u: %.2f %%\n", eps[k], err[k].meanRatio, err[k].worstId,
+                100 * err[k].worstObject);
+  }
+  EXPECT_NEAR(err[0].meanRatio, 1.0, 0.0125);
+  EXPECT_LT(err[0].worstObject, 0.03);
+  EXPECT_LT(std::abs(err[1].meanRatio - 1.0), std::abs(err[0].meanRatio - 1.0)) << "the error falls with eps";
+  EXPECT_LT(err[1].worstObject, err[0].worstObject);
+  EXPECT_NEAR(err[1].meanRatio, 1.0, 0.0075);
+  EXPECT_LT(err[1].worstObject, 0.02);
+}
+
+}  // namespace
