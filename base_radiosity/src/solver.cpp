@@ -12,6 +12,9 @@
 
 namespace hr {
 
+/// Consecutive growing residuals above the emitted power after which a solve is declared diverging.
+constexpr int kDivergingIterations = 3;
+
 using detail::Link;
 using detail::SolverState;
 
@@ -98,6 +101,7 @@ struct Solver::Impl final : public HostView {
     double rhoMean = 0.0;
     for (const Patch& p : h.patches()) rhoMean += luminance(s.scene.materials[p.material].diffuse) * p.area;
     rhoMean /= std::max(totalArea, 1e-300);
+    int grew = 0;  // consecutive iterations whose residual grew
     for (int it = 1; it <= s.opt.maxIterations; ++it) {
       auto ti = std::chrono::steady_clock::now();
       progress->phase("iteration " + std::to_string(it) + ": refine");
@@ -137,8 +141,24 @@ struct Solver::Impl final : public HostView {
         st.converged = true;
         break;
       }
+      // A safety net, whatever the cause: each iteration's change is the light of one more bounce,
+      // at most the emitted power even while refinement reshuffles links, and it shrinks with the
+      // albedo. A residual that keeps growing beyond the emitted power means energy is being
+      // created (it grew ~10x per iteration on a scene that did): running on only costs time and
+      // memory (millions of links) and ends in overflow, so the solve stops and says so.
+      grew = st.history.size() >= 2 && res > st.history[st.history.size() - 2].residualW ? grew + 1 : 0;
+      if (grew >= kDivergingIterations && res > s.emittedPower) {
+        st.diverged = true;
+        char why[256];
+        std::snprintf(why, sizeof why,
+                      "DIVERGING: the residual grew %d iterations in a row to %.3g x the emitted power (energy is "
+                      "being created); stopped after iteration %d",
+                      grew, res / std::max(s.emittedPower, 1e-300), it);
+        progress->note(why);
+        break;
+      }
     }
-    if (!st.converged)
+    if (!st.converged && !st.diverged)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
     detail::AuditResult audit = detail::auditEnergy(s);

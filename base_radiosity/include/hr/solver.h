@@ -49,6 +49,7 @@ struct SolveStats {
   Rgb auditStdErrW{0.0};   // standard error of the audit's ray estimate (escaped and back faces), W
   int iterations = 0;
   bool converged = false;
+  bool diverged = false;  // stopped: the residual kept growing beyond the emitted power (solver.cpp)
   std::vector<IterationStat> history;
 };
 
