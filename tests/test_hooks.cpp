@@ -53,13 +53,16 @@ class Amplifier final : public hr::Extension {
     clusterPower_.resize(v.clusterCount(), 0.0);
     change_.resize(v.elementCount(), 0.0);
   }
+  // The host's first push (emitters only) comes before the first attach: nothing to hold yet.
   hr::Rgb intensity(hr::NodeId n, const hr::Vec3& dir) const override {
+    if (!view_) return hr::Rgb(0.0);
     const hr::NodeInfo i = view_->info(n);
     const double P = power(n);
     // Lambertian: I = P cos / pi for a planar node; a cluster sends its power evenly, P / (4 pi).
     return hr::Rgb(i.planar ? P * std::max(0.0, glm::dot(i.normal, dir)) / hr::kPi : P / (4.0 * hr::kPi));
   }
   void reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override {
+    if (!view_) return;
     double E = 0.0;
     for (const auto& smp : samples) E += smp.irradiance.y;
     const double P = gain_ * view_->info(leaf).area * E;
@@ -67,6 +70,7 @@ class Amplifier final : public hr::Extension {
     power(leaf) = P;
   }
   void pull(hr::NodeId n, std::span<const hr::NodeId> kids) override {
+    if (!view_) return;
     double P = 0.0;
     for (hr::NodeId k : kids) P += power(k);
     power(n) = P;
@@ -79,7 +83,11 @@ class Amplifier final : public hr::Extension {
 
  private:
   double& power(hr::NodeId n) { return n.isCluster() ? clusterPower_[n.index()] : elementPower_[n.index()]; }
-  double power(hr::NodeId n) const { return n.isCluster() ? clusterPower_[n.index()] : elementPower_[n.index()]; }
+  // The oracle asks about nodes a refinement pass just made, before attach sizes the tables: dark.
+  double power(hr::NodeId n) const {
+    const auto& v = n.isCluster() ? clusterPower_ : elementPower_;
+    return n.index() < v.size() ? v[n.index()] : 0.0;
+  }
   double gain_;
   const hr::HostView* view_ = nullptr;
   std::vector<double> elementPower_, clusterPower_, change_;
