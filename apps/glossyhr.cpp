@@ -131,7 +131,7 @@ int runSolve(const SolveArgs& a) {
                  "\nsummary: %s in %.2f s, %d iteration(s), %s\n"
                  "  %zu patches -> %zu elements (%zu leaves), %zu clusters, %zu links, %llu rays\n"
                  "  power (W, green channel): emitted %.4g, absorbed %.4g (%.3g by back faces), escaped %.4g, imbalance %.2f%%\n",
-                 run.scene.c_str(), st.tTotal, st.iterations, st.converged ? "converged" : "NOT converged",
+                 run.scene.c_str(), st.tTotal, st.iterations, st.converged ? "converged" : st.diverged ? "DIVERGING" : "NOT converged",
                  st.initialPatches, st.elements, st.leaves, st.clusters, st.links,
                  static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
@@ -147,6 +147,11 @@ int runSolve(const SolveArgs& a) {
   }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
   for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
+  // Loud even with --quiet: a diverging solve's outputs are kept for inspection, not for use.
+  if (st.diverged)
+    std::fprintf(stderr, "error: the solve is DIVERGING (energy is being created): stopped after iteration %d, "
+                         "residual %.3g x the emitted power; its outputs are not a solution\n",
+                 st.iterations, st.history.back().residualW / std::max(hr::luminance(st.emittedW), 1e-300));
   return st.converged && st.energyOk ? 0 : 3;
 }
 

@@ -213,6 +213,55 @@ TEST(GlossyTransport, HardCasesStayFiniteAndBalanced) {
   }
 }
 
+/// Two near-mirrors (rho_d 0, rho_s 0.9, n = 10^4, the MGF importer's mirror) facing each other 0.2 m
+/// apart around a small lamp: light bounces between them near the normal, where every receiver is in
+/// a sender's near field and the whole lobe sits in one Haar leaf cell. Each bounce may only lose
+/// light. Before the near-field transfer delivered the flux of the receiver's solid angle (it gave a
+/// receiver of ~1 sr the value of the one direction toward its centre, the lobe's cell), this scene
+/// came out with 3x its emitted power (imbalance -202 % at eps 1e-3, level 3) and its residual grew
+/// from 0.2 to 1.4 x the emitted power; the glossy Soda Shoppe diverged the same way.
+TEST(GlossyTransport, FacingNearMirrorsCreateNoEnergy) {
+  const std::string json = R"({ "materials": { "l": { "emission": [20,20,20] },
+      "mirror": { "diffuse": [0,0,0], "specular": [0.9,0.9,0.9], "exponent": 10000 } },
+    "objects": [
+      { "type": "quad", "material": "l", "vertices": [[0.45,0.1,0.45],[0.55,0.1,0.45],[0.55,0.1,0.55],[0.45,0.1,0.55]] },
+      { "type": "quad", "material": "mirror", "vertices": [[0,0,0],[0,0,1],[1,0,1],[1,0,0]] },
+      { "type": "quad", "material": "mirror", "vertices": [[0,0.2,0],[1,0.2,0],[1,0.2,1],[0,0.2,1]] } ] })";
+  hr::SolverOptions o;
+  o.eps = 5e-4;
+  o.maxLevel = 4;
+  auto ext = makeIs();
+  auto s = testutil::solveText(json, o, ext.get());
+  ASSERT_TRUE(s.stats.converged);
+  EXPECT_FALSE(s.stats.diverged);
+  // The energy audit. Created light (absorbed + escaped beyond the emitted power) within 1 % (was
+  // +202 %). Either way within 1.5 %: measured 1.11 % lost here (1.14 % at level 5, audit standard
+  // error 0.08 %; at level 3 the near field's geometric correction still creates 1.7 %), where the
+  // other glossy scenes hold 1 %: a known residual of the near-field model, not hidden by this bar.
+  const double emitted = s.stats.emittedW.y, out = s.stats.absorbedW.y + s.stats.escapedW.y;
+  EXPECT_LE(out, emitted * 1.01) << "light created";
+  expectBalanced(s, 0.015, "facing near-mirrors");
+  // Each iteration's change is the light of one more bounce, at most rho_s = 0.9 of the previous
+  // one's: never more than the emitted power.
+  for (const auto& it : s.stats.history)
+    EXPECT_LE(it.residualW, hr::luminance(s.stats.emittedW)) << "iteration " << it.iteration;
+  // Per reflection: a leaf reflects at most rho_s of the power it receives (the lobe's albedo is
+  // below 1 and falls toward grazing), within the Haar projection's measured power error (at most
+  // 3.1e-3, glossy_extension/README.md), held here to 5e-3.
+  double received = 0.0, reflected = 0.0;
+  for (std::size_t i = 0; i < s.h->elements().size(); ++i) {
+    const auto& e = s.h->element(static_cast<std::uint32_t>(i));
+    if (!e.leaf() || s.scene.materials[s.h->patches()[e.patch].material].specular.y <= 0.0) continue;
+    const hr::NodeId leaf{static_cast<std::uint32_t>(i)};
+    const double in = e.area * s.solver->irradiance()[i].y, sent = ext->reflectedPower(leaf).y;
+    EXPECT_LE(sent, 0.9 * in * (1.0 + 5e-3) + 1e-12) << "leaf " << i;
+    received += in;
+    reflected += sent;
+  }
+  EXPECT_GT(received, 0.0);
+  EXPECT_LE(reflected, 0.9 * received * (1.0 + 5e-3));
+}
+
 TEST(GlossyTransport, OneAndTwoThreadsGiveTheSameBits) {
   std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json");
   hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);

@@ -2,7 +2,10 @@
 // bit as it was and must never be asked for light; the host attaches it after every refinement pass.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <vector>
 
 #include "helpers.h"
 
@@ -35,6 +38,86 @@ TEST(Hooks, AnExtensionThatSimulatesNothingChangesNothing) {
   EXPECT_EQ(ext.asked.load(), 0);  // no simulated material: its intensity is never read
   EXPECT_EQ(ext.reflects, 0);
   EXPECT_EQ(plain.meanRadiosity(1), hooked.meanRadiosity(1));
+}
+
+/// An extension that creates energy: each simulated leaf sends gain times the power it receives,
+/// as a Lambertian lobe. Physically impossible for gain > 1; it stands for any broken extension.
+class Amplifier final : public hr::Extension {
+ public:
+  explicit Amplifier(double gain) : gain_(gain) {}
+  std::string_view name() const override { return "amplifier"; }
+  bool simulates(const hr::MaterialInfo& m) const override { return m.specular.y > 0.0; }
+  void attach(const hr::HostView& v) override {
+    view_ = &v;
+    elementPower_.resize(v.elementCount(), 0.0);
+    clusterPower_.resize(v.clusterCount(), 0.0);
+    change_.resize(v.elementCount(), 0.0);
+  }
+  // The host's first push (emitters only) comes before the first attach: nothing to hold yet.
+  hr::Rgb intensity(hr::NodeId n, const hr::Vec3& dir) const override {
+    if (!view_) return hr::Rgb(0.0);
+    const hr::NodeInfo i = view_->info(n);
+    const double P = power(n);
+    // Lambertian: I = P cos / pi for a planar node; a cluster sends its power evenly, P / (4 pi).
+    return hr::Rgb(i.planar ? P * std::max(0.0, glm::dot(i.normal, dir)) / hr::kPi : P / (4.0 * hr::kPi));
+  }
+  void reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override {
+    if (!view_) return;
+    double E = 0.0;
+    for (const auto& smp : samples) E += smp.irradiance.y;
+    const double P = gain_ * view_->info(leaf).area * E;
+    change_[leaf.index()] = std::abs(P - power(leaf));
+    power(leaf) = P;
+  }
+  void pull(hr::NodeId n, std::span<const hr::NodeId> kids) override {
+    if (!view_) return;
+    double P = 0.0;
+    for (hr::NodeId k : kids) P += power(k);
+    power(n) = P;
+  }
+  double powerChange() const override {
+    double sum = 0.0;
+    for (double c : change_) sum += c;
+    return sum;
+  }
+
+ private:
+  double& power(hr::NodeId n) { return n.isCluster() ? clusterPower_[n.index()] : elementPower_[n.index()]; }
+  // The oracle asks about nodes a refinement pass just made, before attach sizes the tables: dark.
+  double power(hr::NodeId n) const {
+    const auto& v = n.isCluster() ? clusterPower_ : elementPower_;
+    return n.index() < v.size() ? v[n.index()] : 0.0;
+  }
+  double gain_;
+  const hr::HostView* view_ = nullptr;
+  std::vector<double> elementPower_, clusterPower_, change_;
+};
+
+// The core's safety net, generic: a solve whose residual keeps growing beyond the emitted power is
+// creating energy; it stops as diverging within a few iterations instead of running on to the
+// iteration limit (the glossy Soda Shoppe once grew ~10x per iteration to 3 million links).
+TEST(Hooks, ASolveThatCreatesEnergyStopsAsDiverging) {
+  const char* scene = R"({ "materials": { "l": { "emission": [5,5,5] },
+      "amp": { "diffuse": [0.1,0.1,0.1], "specular": [0.5,0.5,0.5], "exponent": 10 } },
+    "objects": [
+      { "type": "quad", "material": "l", "vertices": [[0.45,0.1,0.45],[0.55,0.1,0.45],[0.55,0.1,0.55],[0.45,0.1,0.55]] },
+      { "type": "quad", "material": "amp", "vertices": [[0,0,0],[0,0,1],[1,0,1],[1,0,0]] },
+      { "type": "quad", "material": "amp", "vertices": [[0,0.2,0],[1,0.2,0],[1,0.2,1],[0,0.2,1]] } ] })";
+  hr::SolverOptions o;
+  o.eps = 1e-2;
+  o.maxLevel = 2;
+  o.maxIterations = 40;
+  Amplifier amp(10.0);
+  auto s = testutil::solveText(scene, o, &amp);
+  EXPECT_TRUE(s.stats.diverged);
+  EXPECT_FALSE(s.stats.converged);
+  EXPECT_LT(s.stats.iterations, o.maxIterations);
+  ASSERT_GE(s.stats.history.size(), 4u);
+  EXPECT_GT(s.stats.history.back().residualW, hr::luminance(s.stats.emittedW));
+  // And the same scene without the amplifier is not flagged (its plates reflect 0.1 diffusely).
+  auto plain = testutil::solveText(scene, o);
+  EXPECT_FALSE(plain.stats.diverged);
+  EXPECT_TRUE(plain.stats.converged);
 }
 
 }  // namespace

@@ -15,6 +15,9 @@
 
 namespace hr {
 
+/// Consecutive growing residuals above the emitted power after which a solve is declared diverging.
+constexpr int kDivergingIterations = 3;
+
 using detail::Link;
 using detail::SolverState;
 
@@ -128,6 +131,7 @@ struct Solver::Impl final : public HostView {
     detail::Accelerator acc(s, s.opt.acceleration);
     const double target = s.opt.tolerance * s.emittedPower;
     int it = 0;
+    int grew = 0;  // consecutive iterations whose residual grew
     for (int pass = 1; it < s.opt.maxIterations; ++pass) {
       progress->phase("pass " + std::to_string(pass) + ": refine");
       std::size_t refined = detail::refineLinks(s);
@@ -157,8 +161,24 @@ struct Solver::Impl final : public HostView {
         st.converged = true;
         break;
       }
+      // A safety net, whatever the cause: each iteration's change is the light of one more bounce,
+      // at most the emitted power even while refinement reshuffles links, and it shrinks with the
+      // albedo. A residual that keeps growing beyond the emitted power means energy is being
+      // created (it grew ~10x per iteration on a scene that did): running on only costs time and
+      // memory (millions of links) and ends in overflow, so the solve stops and says so.
+      grew = st.history.size() >= 2 && res > st.history[st.history.size() - 2].residualW ? grew + 1 : 0;
+      if (grew >= kDivergingIterations && res > s.emittedPower) {
+        st.diverged = true;
+        char why[256];
+        std::snprintf(why, sizeof why,
+                      "DIVERGING: the residual grew %d iterations in a row to %.3g x the emitted power (energy is "
+                      "being created); stopped after iteration %d",
+                      grew, res / std::max(s.emittedPower, 1e-300), it);
+        progress->note(why);
+        break;
+      }
     }
-    if (!st.converged)
+    if (!st.converged && !st.diverged)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
     detail::AuditResult audit = detail::auditEnergy(s);

@@ -95,6 +95,11 @@ struct SolverState {
   /// The extension's intensity of the link's sender averaged over directions to an element
   /// receiver, W/sr.
   Rgb extensionOverReceiver(const Link& l) const;
+  /// Whether a link's ends are far apart for the extension's light: (r_s + r_r) / d <= kFarField.
+  bool farField(const Link& l) const;
+  /// An element sender's extension share toward a near element receiver, in the link's radiosity
+  /// unit: the flux its distribution sends into the receiver's solid angle, no more.
+  Rgb extensionNearField(const Link& l) const;
   /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
   void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.

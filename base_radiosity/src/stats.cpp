@@ -61,6 +61,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   }
   j["iterations"] = st.iterations;
   j["converged"] = st.converged;
+  j["diverged"] = st.diverged;
   json hist = json::array();
   for (const auto& h : st.history)
     hist.push_back({{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},

@@ -63,6 +63,7 @@ struct SolveStats {
   bool energyOk = true;    // every channel's |imbalance| within allowedImbalanceW
   int iterations = 0;
   bool converged = false;
+  bool diverged = false;  // stopped: the residual kept growing beyond the emitted power (solver.cpp)
   std::vector<IterationStat> history;
 };
 
