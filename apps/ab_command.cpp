@@ -20,7 +20,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <unistd.h>
 
 #include "flag_checks.h"
 #include "study/child.h"
@@ -64,15 +63,8 @@ int runAb(const AbArgs& a) {
   if (glossy == 0)
     throw hr::InputError(a.scene + ": no glossy material (specular > 0): the A/B pair would be one run twice");
   const std::vector<std::uint32_t> lights = hr::emitterObjects(scene);
-  const fs::path scratch = fs::temp_directory_path() / ("glossyhr-ab-" + std::to_string(::getpid()));
-  struct Cleanup {
-    fs::path p;
-    ~Cleanup() {
-      std::error_code ec;
-      fs::remove_all(p, ec);
-    }
-  } cleanup{scratch};
-  fs::create_directories(scratch);
+  const study::ScratchDir scratchDir("ab");
+  const fs::path& scratch = scratchDir.path();
 
   struct Run {
     const char* name;

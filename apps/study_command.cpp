@@ -21,7 +21,6 @@
 #include <sstream>
 #include <thread>
 
-#include <unistd.h>
 
 #include "extension_cli.h"
 #include "flag_checks.h"
@@ -183,15 +182,8 @@ int runStudy(const StudyArgs& a) {
   std::vector<std::string> names = {"study.csv", "study.json"};
   if (!a.noPlots) names.insert(names.end(), {"error_vs_time.png", "error_vs_memory.png"});
   hr::OutputSet out(a.out, names);
-  const fs::path scratch = fs::temp_directory_path() / ("glossyhr-study-" + std::to_string(::getpid()));
-  fs::create_directories(scratch);
-  struct Cleanup {
-    fs::path p;
-    ~Cleanup() {
-      std::error_code ec;
-      fs::remove_all(p, ec);
-    }
-  } cleanup{scratch};
+  const study::ScratchDir scratchDir("study");
+  const fs::path& scratch = scratchDir.path();
   const std::string T = std::to_string(threads);
   std::size_t curveRuns = 0;
   for (int s : kCurveSpp) curveRuns += 4 * s <= spp;

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
@@ -16,6 +17,16 @@
 extern char** environ;
 
 namespace study {
+
+ScratchDir::ScratchDir(const std::string& what)
+    : path_(std::filesystem::temp_directory_path() / ("glossyhr-" + what + "-" + std::to_string(::getpid()))) {
+  std::filesystem::create_directories(path_);
+}
+
+ScratchDir::~ScratchDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
 
 ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath) {
   std::vector<std::string> all = {program};

@@ -1,10 +1,25 @@
 // Runs glossyhr itself as a child process: a study solves each configuration in a process of its own,
 // so that the peak memory it reports is that configuration's alone and a crash is one row's failure.
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
 namespace study {
+
+/// A private folder for child runs' outputs, <temp>/glossyhr-<what>-<pid>, removed with everything
+/// in it when it goes out of scope (the commands keep only what they copy into their output set).
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& what);
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 struct ChildResult {
   int exitCode = -1;   // the child's exit code, or 128 + signal when it was killed by one
