@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "helpers.h"
@@ -63,17 +64,23 @@ std::string boxField(int n) {
 }
 
 TEST(Parallel, EveryParallelPhaseUsesTwoThreads) {
+  // Whether the second worker wakes before a short phase is over is the OS scheduler's choice on
+  // a loaded machine, so a phase passes if any of a few solves saw two threads in it. The bug this
+  // guards against (a process-wide limit of one thread) makes every solve see one, and still fails.
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
   hr::SolverOptions o;
   o.eps = 1e-4;
   o.maxLevel = 4;
-  auto s = testutil::solveText(boxField(32), o);  // 6146 patches
-  ASSERT_GT(s.h->patches().size(), 6000u);
-  EXPECT_GE(s.stats.visibility.threads, 2) << "visibility";
-  EXPECT_GE(s.stats.refine.threads, 2) << "refinement decisions";
-  EXPECT_GE(s.stats.gather.threads, 2) << "gathering";
-  EXPECT_GE(s.stats.pushPull.threads, 2) << "push/pull";
-  EXPECT_GE(s.stats.energy.threads, 2) << "energy audit";
+  const char* names[] = {"visibility", "refinement decisions", "gathering", "push/pull", "energy audit"};
+  int seen[5] = {0, 0, 0, 0, 0};
+  for (int attempt = 0; attempt < 4 && *std::min_element(seen, seen + 5) < 2; ++attempt) {
+    auto s = testutil::solveText(boxField(32), o);  // 6146 patches
+    ASSERT_GT(s.h->patches().size(), 6000u);
+    const hr::PhaseStat* phase[] = {&s.stats.visibility, &s.stats.refine, &s.stats.gather, &s.stats.pushPull,
+                                    &s.stats.energy};
+    for (int p = 0; p < 5; ++p) seen[p] = std::max(seen[p], phase[p]->threads);
+  }
+  for (int p = 0; p < 5; ++p) EXPECT_GE(seen[p], 2) << names[p];
 }
 
 }  // namespace
