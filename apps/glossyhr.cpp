@@ -30,8 +30,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct SolveArgs {
-  std::string scene, out = "out", algorithm = "diffuse";
-  std::optional<double> eps, tolerance;
+  std::string scene, out = "out", algorithm = "diffuse", iteration = "gather";
+  std::optional<double> eps, tolerance, shootFraction;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
   bool quiet = false;
@@ -56,6 +56,8 @@ int runSolve(const SolveArgs& a) {
   checkFlag("--tolerance", a.tolerance, L::kTolerance);
   checkFlag("--threads", a.threads, L::kThreads);
   checkFlag("--seed", a.seed, L::kSeed);
+  checkFlag("--shoot-fraction", a.shootFraction, L::kShootFraction);
+  if (a.shootFraction && a.iteration != "shoot") throw hr::InputError("--shoot-fraction: only with --iteration shoot");
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
@@ -69,6 +71,10 @@ int runSolve(const SolveArgs& a) {
   if (a.maxIterations) opt.maxIterations = *a.maxIterations;
   if (a.tolerance) opt.tolerance = *a.tolerance;
   if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
+  opt.iteration = a.iteration == "shoot" ? hr::Iteration::Shoot : hr::Iteration::Gather;
+  if (a.shootFraction) opt.shootFraction = *a.shootFraction;
+  if (ext && opt.iteration == hr::Iteration::Shoot && !ext->canShoot())
+    throw hr::InputError("--iteration shoot: --algorithm " + a.algorithm + " gathers only (use --iteration gather)");
   int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
@@ -129,13 +135,18 @@ int runSolve(const SolveArgs& a) {
   if (!a.quiet) {
     hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
     std::fprintf(stderr,
-                 "\nsummary: %s in %.2f s, %d iteration(s), %s\n"
+                 "\nsummary: %s in %.2f s, %d %s, %s\n"
                  "  %zu patches -> %zu elements (%zu leaves), %zu clusters, %zu links, %llu rays\n"
                  "  power (W, green channel): emitted %.4g, absorbed %.4g (%.3g by back faces), escaped %.4g, imbalance %.2f%%\n",
-                 run.scene.c_str(), st.tTotal, st.iterations, st.converged ? "converged" : "NOT converged",
+                 run.scene.c_str(), st.tTotal, st.iterations,
+                 st.iteration == hr::Iteration::Shoot ? "shooting pass(es)" : "iteration(s)",
+                 st.converged ? "converged" : "NOT converged",
                  st.initialPatches, st.elements, st.leaves, st.clusters, st.links,
                  static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
+    if (st.iteration == hr::Iteration::Shoot)
+      std::fprintf(stderr, "  unshot power left: %.4g W (luminance; %.2e of emitted)\n", st.unshotW,
+                   st.unshotW / std::max(hr::luminance(st.emittedW), 1e-300));
   }
   std::printf("outputs in %s:\n", fs::absolute(a.out).string().c_str());
   for (const auto& w : out.finalPaths()) std::printf("  %s\n", w.c_str());
@@ -219,6 +230,11 @@ int main(int argc, char** argv) {
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
   solve->add_option("--seed", sa.seed, "random seed for shadow-ray sampling");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
+  solve->add_option("--iteration", sa.iteration, "gather (Jacobi over all links) or shoot (passes from the patches with the most unshot power)")
+      ->check(CLI::IsMember({"gather", "shoot"}))
+      ->capture_default_str();
+  solve->add_option("--shoot-fraction", sa.shootFraction,
+                    "shooting: patches with at least this fraction of the largest unshot power shoot together (default 0.1; 1: one per pass)");
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;
@@ -274,6 +290,8 @@ int main(int argc, char** argv) {
   compare->add_option("a", ca.a, "candidate image (.exr)")->required();
   compare->add_option("b", ca.b, "reference image (.exr)")->required();
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
+  compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids, e.g. the lights (ID,ID,...)")
+      ->delimiter(',');
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
   std::string infoScene;

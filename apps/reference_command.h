@@ -3,6 +3,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 struct ReferenceArgs {
   std::string scene, out = "out/reference";
@@ -17,6 +18,7 @@ int runReference(const ReferenceArgs& a);
 struct CompareArgs {
   std::string a, b, out;
   std::optional<long long> mask;
+  std::vector<long long> exclude;  // object ids left out (e.g. the light sources)
   bool json = false;
 };
 int runCompare(const CompareArgs& a);

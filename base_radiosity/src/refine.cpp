@@ -40,12 +40,14 @@ double extensionBound(const SolverState& s, const Link& l, bool wholeSphere) {
   double d = glm::length(s.h.center(l.sender) - s.h.center(l.receiver));
   double sinHalf = d > 0.0 ? (s.h.radius(l.sender) + s.h.radius(l.receiver)) / d : 2.0;
   double cosHalf = wholeSphere || sinHalf >= 1.0 ? -1.0 : std::sqrt(1.0 - sinHalf * sinHalf);
-  return senderUnit(s, l, luminance(s.ext->intensityBound(l.sender, axis, cosHalf)));
+  Rgb I = s.shooting ? s.ext->unshotIntensityBound(l.sender, axis, cosHalf) : s.ext->intensityBound(l.sender, axis, cosHalf);
+  return senderUnit(s, l, luminance(I));
 }
 
 /// The extension's share toward the receiver's centre, in the same unit.
 double extensionToward(const SolverState& s, const Link& l) {
-  return senderUnit(s, l, luminance(s.ext->intensity(l.sender, -Vec3(l.dir))));
+  const Vec3 w = -Vec3(l.dir);
+  return senderUnit(s, l, luminance(s.shooting ? s.ext->unshotIntensity(l.sender, w) : s.ext->intensity(l.sender, w)));
 }
 
 /// The sender's value toward the receiver, or a cluster's peak intensity if that is more, plus the
@@ -87,7 +89,7 @@ double powerError(const SolverState& s, const Link& l, bool wholeSphere) {
     return catchingArea(s, l) * senderBound(s, l, wholeSphere) * l.bound * g * g;
   }
   if (s.h.element(l.sender.index()).leaf()) return 0.0;
-  return s.h.area(l.receiver) * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
+  return s.h.area(l.receiver) * l.bound * double(s.sentMax(l.sender.index()) - s.sentMin(l.sender.index()));
 }
 
 /// A coarse threshold places light coarsely but never loses or makes more than this fraction of the

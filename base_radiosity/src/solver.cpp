@@ -1,7 +1,7 @@
 // Diffuse hierarchical radiosity with clustering (in the manner of Smits et al. 1994 and Sillion
 // 1995). One iteration = refine links (refine.cpp) -> gather along links -> push/pull
-// (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the iteration
-// loop, convergence and the host's view for an extension.
+// (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the gathering
+// loop, convergence and the host's view for an extension; shooting passes are in shoot.cpp.
 #include <hr/solver.h>
 
 #include <algorithm>
@@ -98,7 +98,9 @@ struct Solver::Impl final : public HostView {
     double rhoMean = 0.0;
     for (const Patch& p : h.patches()) rhoMean += luminance(s.scene.materials[p.material].diffuse) * p.area;
     rhoMean /= std::max(totalArea, 1e-300);
-    for (int it = 1; it <= s.opt.maxIterations; ++it) {
+    // The iteration scheme: shooting passes (shoot.cpp), or the Jacobi gathering loop below.
+    if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, *this, *progress, st);
+    for (int it = 1; s.opt.iteration == Iteration::Gather && it <= s.opt.maxIterations; ++it) {
       auto ti = std::chrono::steady_clock::now();
       progress->phase("iteration " + std::to_string(it) + ": refine");
       std::size_t refined = detail::refineLinks(s);
@@ -118,6 +120,8 @@ struct Solver::Impl final : public HostView {
       is.links = s.links.size();
       is.elements = h.elements().size();
       is.refined = refined;
+      is.samples = s.samples.exchange(0);
+      st.peakSamples = std::max(st.peakSamples, is.samples);
       is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
       st.history.push_back(is);
       st.iterations = it;
@@ -138,7 +142,7 @@ struct Solver::Impl final : public HostView {
         break;
       }
     }
-    if (!st.converged)
+    if (!st.converged && s.opt.iteration == Iteration::Gather)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
     detail::AuditResult audit = detail::auditEnergy(s);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 
 #include "solver_state.h"
 
@@ -38,6 +39,8 @@ void SolverState::growArrays() {
   owned.resize(n, 0);
   Bmin.resize(n);
   Bmax.resize(n);
+  const bool shoot = opt.iteration == Iteration::Shoot;
+  if (shoot) U.resize(n), Umin.resize(n), Umax.resize(n);
   for (std::size_t i = old; i < n; ++i) {
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
@@ -45,6 +48,11 @@ void SolverState::growArrays() {
     Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
     owned[i] = e.parent == kNone ? 0 : owned[e.parent];
     Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
+    if (shoot) {
+      // A root's unshot light is its emission; a child's is its parent's (unshot radiosity per area).
+      U[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : U[e.parent];
+      Umin[i] = Umax[i] = static_cast<float>(luminance(U[i]));
+    }
   }
 }
 
@@ -52,21 +60,22 @@ Rgb SolverState::senderValue(const Link& l) const {
   const Vec3 toRecv = -Vec3(l.dir);
   Rgb v(0.0);
   if (l.sender.isCluster()) {
+    assert(!shooting && "shooters are patches: a cluster never sends unshot light");
     v = clusterIntensity(l.sender.index(), toRecv);
   } else {
     const Element& e = h.element(l.sender.index());
     double ws = l.wkid[0] + l.wkid[1] + l.wkid[2] + l.wkid[3];
     if (!e.leaf() && ws > 0.0) {
       // An inner sender sends the visibility-weighted mean of its children (docs/solver.md).
-      for (int k = 0; k < 4; ++k) v += double(l.wkid[k]) * B[e.firstChild + k];
+      for (int k = 0; k < 4; ++k) v += double(l.wkid[k]) * sent()[e.firstChild + k];
       v /= ws;
     } else {
-      v = B[l.sender.index()];
+      v = sent()[l.sender.index()];
     }
   }
   if (ext && isOwned(l.sender)) {
     // Additive: the extension's directional share joins the host's Lambertian light.
-    Rgb I = ext->intensity(l.sender, toRecv);
+    Rgb I = shooting ? ext->unshotIntensity(l.sender, toRecv) : ext->intensity(l.sender, toRecv);
     if (l.sender.isCluster()) return v + I;
     const Element& e = h.element(l.sender.index());
     double c = glm::dot(e.normal, toRecv);

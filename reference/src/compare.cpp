@@ -37,15 +37,16 @@ void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::str
   }
 }
 
-}  // namespace
-
-Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+/// The metrics over the pixels `keep` selects.
+template <class Keep>
+Metrics measure(const hr::Image& a, const hr::Image& b, long mask, bool excluding, const Keep& keep,
+                const std::string& nameA, const std::string& nameB) {
   checkPair(a, b, mask, nameA, nameB);
   const std::size_t P = std::size_t(a.width) * a.height;
   Metrics m;
   double se = 0.0, sae = 0.0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!keep(i)) continue;
     double va = lum(a, i), vb = lum(b, i);
     ++m.pixels;
     m.meanA += va, m.meanB += vb;
@@ -53,7 +54,9 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
     sae += std::abs(va - vb);
     m.maxAbsError = std::max(m.maxAbsError, std::abs(va - vb));
   }
-  if (m.pixels == 0) throw hr::InputError("--mask: no pixel of object " + std::to_string(mask) + " in " + nameA);
+  if (m.pixels == 0)
+    throw hr::InputError(mask >= 0 && !excluding ? "--mask: no pixel of object " + std::to_string(mask) + " in " + nameA
+                                                 : "--exclude: no pixel left to compare in " + nameA);
   m.meanA /= double(m.pixels), m.meanB /= double(m.pixels);
   if (!(m.meanB > 0.0))
     throw hr::InputError(nameB + ": the reference is black" + std::string(mask >= 0 ? " over the masked pixels" : "") +
@@ -64,7 +67,7 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   double rel = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!keep(i)) continue;
     double vb = lum(b, i);
     if (vb <= 1e-3 * m.meanB) continue;
     rel += std::abs(lum(a, i) - vb) / vb;
@@ -72,6 +75,21 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   }
   m.meanRelError = n ? rel / double(n) : 0.0;
   return m;
+}
+
+}  // namespace
+
+Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+  return measure(a, b, mask, false, [&](std::size_t i) { return selected(a, i, mask); }, nameA, nameB);
+}
+
+Metrics compareExcluding(const hr::Image& a, const hr::Image& b, const std::vector<std::uint32_t>& excluded,
+                         const std::string& nameA, const std::string& nameB) {
+  const long anyMask = excluded.empty() ? -1 : 0;  // object ids are needed only when something is excluded
+  return measure(
+      a, b, anyMask, true,
+      [&](std::size_t i) { return std::find(excluded.begin(), excluded.end(), a.objectId[i]) == excluded.end(); },
+      nameA, nameB);
 }
 
 void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range) {

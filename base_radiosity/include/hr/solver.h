@@ -12,6 +12,10 @@
 
 namespace hr {
 
+/// How light is propagated: Jacobi gathering over every link, or shooting passes from the nodes with
+/// the most unshot power (progressive; src/shoot.cpp).
+enum class Iteration { Gather, Shoot };
+
 struct SolverOptions {
   double eps = 2e-4;          // refine a link while its error estimate exceeds eps * emitted power
   int maxLevel = 6;           // quadtree depth below a root patch
@@ -20,6 +24,10 @@ struct SolverOptions {
   int maxIterations = 200;
   double tolerance = 1e-4;    // converged when the iteration's power change < tolerance * emitted
   std::uint64_t seed = 1;
+  Iteration iteration = Iteration::Gather;
+  /// Shooting: a patch shoots in a pass when its unshot power is at least this fraction of the
+  /// largest patch's (1: one patch per pass, fewest samples held at once; smaller: fewer passes).
+  double shootFraction = 0.1;
   static SolverOptions from(const Settings& s);
 };
 
@@ -28,6 +36,8 @@ struct IterationStat {
   double residualW = 0.0;      // sum over patches of area * |B_new - B_old| (luminance), W
   double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
   std::size_t links = 0, elements = 0, refined = 0;
+  std::size_t shooters = 0;    // shooting: patches that shot in this pass
+  std::size_t samples = 0;     // Illumination Samples handed to the extension's gather hook
   double seconds = 0.0;
 };
 
@@ -47,8 +57,12 @@ struct SolveStats {
   Rgb emittedW{0.0}, absorbedW{0.0}, escapedW{0.0};  // W per channel
   Rgb backAbsorbedW{0.0};  // the part of absorbedW that reached the black back of a one-sided surface
   Rgb auditStdErrW{0.0};   // standard error of the audit's ray estimate (escaped and back faces), W
-  int iterations = 0;
+  int iterations = 0;          // gathering iterations or shooting passes
   bool converged = false;
+  Iteration iteration = Iteration::Gather;
+  double unshotW = 0.0;        // shooting: unshot power left at the end (luminance), W
+  double shootFraction = 0.0;  // shooting: SolverOptions::shootFraction
+  std::size_t peakSamples = 0; // the most Illumination Samples held in one iteration or pass
   std::vector<IterationStat> history;
 };
 

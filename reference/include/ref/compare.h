@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ref {
 
@@ -23,6 +24,11 @@ struct Metrics {
 /// mask < 0: all pixels.
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
                 const std::string& nameB = "B");
+
+/// The same over the pixels whose object is none of `excluded` (light sources: both images copy
+/// their radiance from the scene, and their brightness would swamp the mean); background pixels count.
+Metrics compareExcluding(const hr::Image& a, const hr::Image& b, const std::vector<std::uint32_t>& excluded,
+                         const std::string& nameA = "A", const std::string& nameB = "B");
 
 /// False colour of (a - b) / mean b: blue below, red above, white equal, saturating at +-range;
 /// pixels outside the mask are grey.
