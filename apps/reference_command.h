@@ -18,7 +18,7 @@ int runReference(const ReferenceArgs& a);
 struct CompareArgs {
   std::string a, b, out;
   std::optional<long long> mask;
-  std::vector<long long> exclude;  // object ids left out (e.g. the light sources)
+  std::vector<long long> exclude;  // objects left out (the light sources, say)
   bool json = false;
 };
 int runCompare(const CompareArgs& a);

@@ -153,6 +153,15 @@ std::vector<Case> cases() {
       {"reference_threads_0", "reference --threads 0 -o {out}"}, {"max_depth_0", "reference --max-depth 0 -o {out}"},
       {"lobe_eps_negative", "lobe --eps -1"}, {"lobe_min_level_negative", "lobe --min-level -1"},
       {"compare_mask_negative", "compare {dir}/a.exr {dir}/a.exr --mask -1"},
+      // The glossy extension's options (issue 11), validated by the extension it belongs to.
+      {"basis_unknown", "solve --basis foo --algorithm is -o {out}"},
+      {"dir_eps_0", "solve --dir-eps 0 --algorithm is -o {out}"},
+      {"dir_eps_negative", "solve --dir-eps -1 --algorithm is -o {out}"},
+      {"dir_max_level_9", "solve --dir-max-level 9 --algorithm is -o {out}"},
+      {"dir_min_above_max", "solve --dir-min-level 4 --algorithm is --dir-max-level 2 -o {out}"},
+      {"sh_order_with_haar", "solve --sh-order 3 --algorithm is -o {out}"},
+      {"tetra_level_with_sh", "solve --tetra-level 2 --algorithm is --basis sh -o {out}"},
+      {"extension_option_without_extension", "solve --basis haar --algorithm diffuse -o {out}"},
   };
   for (const auto& [name, args] : flags) {
     std::size_t at = args.find("--");

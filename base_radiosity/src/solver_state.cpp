@@ -74,14 +74,49 @@ Rgb SolverState::senderValue(const Link& l) const {
     }
   }
   if (ext && isOwned(l.sender)) {
-    // Additive: the extension's directional share joins the host's Lambertian light.
-    Rgb I = shooting ? ext->unshotIntensity(l.sender, toRecv) : ext->intensity(l.sender, toRecv);
+    // Additive: the extension's directional share joins the host's Lambertian light. Toward an
+    // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
+    // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
+    Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
     if (l.sender.isCluster()) return v + I;
     const Element& e = h.element(l.sender.index());
     double c = glm::dot(e.normal, toRecv);
     if (c > 1e-6) v += kPi * I / (e.area * c);
   }
   return v;
+}
+
+/// (r_s + r_r) / d below which a glossy sender's light is averaged over its receiver.
+constexpr double kFarField = 0.25;
+
+Rgb SolverState::extensionOverReceiver(const Link& l) const {
+  const Polygon& r = h.element(l.receiver.index()).poly;
+  // The receiver seen from a node's centre, as the polygon of directions to its corners.
+  auto seenFrom = [&](NodeId n) {
+    const Vec3 from = h.center(n);
+    Vec3 dirs[4];
+    for (int k = 0; k < r.n; ++k) {
+      Vec3 d = r.v[k] - from;
+      double len = glm::length(d);
+      if (!(len > 0.0)) return extIntensity(n, -Vec3(l.dir));
+      dirs[k] = d / len;
+    }
+    return extMeanIntensity(n, std::span<const Vec3>(dirs, std::size_t(r.n)));
+  };
+  // An inner element sends as its four children, each from its own centre: the parent's pulled
+  // distribution is a coarser sum, and a wide sender's parts see a near receiver from different
+  // directions (the spots a 0.6 m reflector threw on a wall 3.5 m away shifted by 4 cm).
+  // Only in the far field: the link turns the mean intensity into radiosity with the cosine of the
+  // centre direction, which the polygon's mean does not match when the receiver fills a wide angle
+  // (neighbouring faces of a glossy furnace lost 1 % more energy that way).
+  const double d = glm::length(h.center(l.sender) - h.center(l.receiver));
+  if (!(d > 0.0) || (h.radius(l.sender) + h.radius(l.receiver)) / d > kFarField) return extIntensity(l.sender, -Vec3(l.dir));
+  if (!l.sender.isCluster() && !h.element(l.sender.index()).leaf()) {
+    Rgb sum(0.0);
+    for (NodeId kid : h.children(l.sender)) sum += seenFrom(kid);
+    return sum;
+  }
+  return seenFrom(l.sender);
 }
 
 void SolverState::allocateTables() {

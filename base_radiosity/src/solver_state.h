@@ -83,6 +83,17 @@ struct SolverState {
   const std::vector<Rgb>& sent() const { return shooting ? U : B; }
   float sentMin(std::uint32_t e) const { return shooting ? Umin[e] : Bmin[e]; }
   float sentMax(std::uint32_t e) const { return shooting ? Umax[e] : Bmax[e]; }
+  /// The extension's light as senders send it: its total light, or its unshot light during a
+  /// shooting pass (W/sr; Extension::intensity, meanIntensity, intensityBound and their unshot kin).
+  Rgb extIntensity(NodeId n, const Vec3& dir) const {
+    return shooting ? ext->unshotIntensity(n, dir) : ext->intensity(n, dir);
+  }
+  Rgb extMeanIntensity(NodeId n, std::span<const Vec3> polygon) const {
+    return shooting ? ext->unshotMeanIntensity(n, polygon) : ext->meanIntensity(n, polygon);
+  }
+  Rgb extIntensityBound(NodeId n, const Vec3& axis, double cosHalfAngle) const {
+    return shooting ? ext->unshotIntensityBound(n, axis, cosHalfAngle) : ext->intensityBound(n, axis, cosHalfAngle);
+  }
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
   bool isOwned(NodeId n) const { return n.isCluster() ? clusterOwned[n.index()] != 0 : owned[n.index()] != 0; }
@@ -102,6 +113,9 @@ struct SolverState {
   /// The sender's quantity for a link: radiosity for elements (W/m^2), intensity toward the
   /// receiver for clusters (W/sr), the extension's share included.
   Rgb senderValue(const Link& l) const;
+  /// The extension's intensity of the link's sender averaged over directions to an element
+  /// receiver, W/sr.
+  Rgb extensionOverReceiver(const Link& l) const;
   /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
   void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.

@@ -23,15 +23,6 @@ double resolutionAngle(const AnyDistribution& d) {
   return 0.0;
 }
 
-
-/// A light's intensity toward unit dir, W/sr: nothing below a planar node's horizon, never negative
-/// (spherical harmonics ring below zero around a lobe: none of that is sent).
-Rgb intensityOf(const IlluminationSamples::NodeLight* l, const Vec3& dir) {
-  if (!l) return Rgb(0.0);
-  if (hasHorizon(*l) && !(glm::dot(l->normal, dir) > 0.0)) return Rgb(0.0);
-  return finiteOrZero(glm::max(Rgb(0.0), eval(l->dist, l->frame.toLocal(dir))));
-}
-
 /// A bound of that intensity within acos(cosHalfAngle) of unit axis.
 Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double cosHalfAngle) {
   if (!l) return Rgb(0.0);
@@ -44,6 +35,14 @@ Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double co
 }
 
 }  // namespace
+
+/// A light's intensity toward unit dir, W/sr: nothing below a planar node's horizon, never negative
+/// (spherical harmonics ring below zero around a lobe: none of that is sent).
+hr::Rgb IlluminationSamples::intensityOf(const NodeLight* l, const hr::Vec3& dir) {
+  if (!l) return Rgb(0.0);
+  if (hasHorizon(*l) && !(glm::dot(l->normal, dir) > 0.0)) return Rgb(0.0);
+  return finiteOrZero(glm::max(Rgb(0.0), eval(l->dist, l->frame.toLocal(dir))));
+}
 
 hr::Rgb IlluminationSamples::intensity(hr::NodeId node, const hr::Vec3& dir) const { return intensityOf(light(node), dir); }
 

@@ -11,20 +11,21 @@ namespace ref {
 
 namespace {
 
-bool selected(const hr::Image& img, std::size_t i, long mask) {
-  return mask < 0 || img.objectId[i] == static_cast<std::uint32_t>(mask);
+bool selected(const hr::Image& img, std::size_t i, long mask, const std::vector<std::uint32_t>& exclude) {
+  if (mask >= 0 && img.objectId[i] != static_cast<std::uint32_t>(mask)) return false;
+  return exclude.empty() || std::find(exclude.begin(), exclude.end(), img.objectId[i]) == exclude.end();
 }
 
 double lum(const hr::Image& img, std::size_t i) {
   return hr::luminance(hr::Rgb(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]));
 }
 
-void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
+void checkPair(const hr::Image& a, const hr::Image& b, bool masked, const std::string& nameA, const std::string& nameB) {
   if (a.width != b.width || a.height != b.height)
     throw hr::InputError(nameA + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) + " but " + nameB +
                          " is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ": images must have the same size");
-  if (mask >= 0 && a.objectId.size() != std::size_t(a.width) * a.height)
-    throw hr::InputError("--mask: " + nameA + " has no object_id channel");
+  if (masked && a.objectId.size() != std::size_t(a.width) * a.height)
+    throw hr::InputError("--mask/--exclude: " + nameA + " has no object_id channel");
   for (const auto* img : {&a, &b}) {
     const std::string& name = img == &a ? nameA : nameB;
     for (std::size_t i = 0; i < img->rgb.size(); ++i)
@@ -37,16 +38,16 @@ void checkPair(const hr::Image& a, const hr::Image& b, long mask, const std::str
   }
 }
 
-/// The metrics over the pixels `keep` selects.
-template <class Keep>
-Metrics measure(const hr::Image& a, const hr::Image& b, long mask, bool excluding, const Keep& keep,
-                const std::string& nameA, const std::string& nameB) {
-  checkPair(a, b, mask, nameA, nameB);
+}  // namespace
+
+Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB,
+                const std::vector<std::uint32_t>& exclude) {
+  checkPair(a, b, mask >= 0 || !exclude.empty(), nameA, nameB);
   const std::size_t P = std::size_t(a.width) * a.height;
   Metrics m;
   double se = 0.0, sae = 0.0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!keep(i)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double va = lum(a, i), vb = lum(b, i);
     ++m.pixels;
     m.meanA += va, m.meanB += vb;
@@ -54,9 +55,7 @@ Metrics measure(const hr::Image& a, const hr::Image& b, long mask, bool excludin
     sae += std::abs(va - vb);
     m.maxAbsError = std::max(m.maxAbsError, std::abs(va - vb));
   }
-  if (m.pixels == 0)
-    throw hr::InputError(mask >= 0 && !excluding ? "--mask: no pixel of object " + std::to_string(mask) + " in " + nameA
-                                                 : "--exclude: no pixel left to compare in " + nameA);
+  if (m.pixels == 0) throw hr::InputError("--mask: no pixel of object " + std::to_string(mask) + " in " + nameA);
   m.meanA /= double(m.pixels), m.meanB /= double(m.pixels);
   if (!(m.meanB > 0.0))
     throw hr::InputError(nameB + ": the reference is black" + std::string(mask >= 0 ? " over the masked pixels" : "") +
@@ -67,7 +66,7 @@ Metrics measure(const hr::Image& a, const hr::Image& b, long mask, bool excludin
   double rel = 0.0;
   std::size_t n = 0;
   for (std::size_t i = 0; i < P; ++i) {
-    if (!keep(i)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double vb = lum(b, i);
     if (vb <= 1e-3 * m.meanB) continue;
     rel += std::abs(lum(a, i) - vb) / vb;
@@ -77,27 +76,13 @@ Metrics measure(const hr::Image& a, const hr::Image& b, long mask, bool excludin
   return m;
 }
 
-}  // namespace
-
-Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::string& nameA, const std::string& nameB) {
-  return measure(a, b, mask, false, [&](std::size_t i) { return selected(a, i, mask); }, nameA, nameB);
-}
-
-Metrics compareExcluding(const hr::Image& a, const hr::Image& b, const std::vector<std::uint32_t>& excluded,
-                         const std::string& nameA, const std::string& nameB) {
-  const long anyMask = excluded.empty() ? -1 : 0;  // object ids are needed only when something is excluded
-  return measure(
-      a, b, anyMask, true,
-      [&](std::size_t i) { return std::find(excluded.begin(), excluded.end(), a.objectId[i]) == excluded.end(); },
-      nameA, nameB);
-}
-
-void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range) {
-  Metrics m = compare(a, b, mask);
+void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range,
+                        const std::vector<std::uint32_t>& exclude) {
+  Metrics m = compare(a, b, mask, "A", "B", exclude);
   const std::size_t P = std::size_t(a.width) * a.height;
   std::vector<unsigned char> px(3 * P, 128);
   for (std::size_t i = 0; i < P; ++i) {
-    if (!selected(a, i, mask)) continue;
+    if (!selected(a, i, mask, exclude)) continue;
     double t = m.meanB > 0.0 ? std::clamp((lum(a, i) - lum(b, i)) / (m.meanB * range), -1.0, 1.0) : 0.0;
     // White at 0, towards red (A brighter) or blue (A darker).
     double r = t < 0.0 ? 1.0 + t : 1.0, g = 1.0 - std::abs(t), bl = t > 0.0 ? 1.0 - t : 1.0;

@@ -48,12 +48,20 @@ class Extension {
   virtual bool simulates(const MaterialInfo&) const { return false; }
   /// The node set changed (after every refinement pass): size side tables. Serial.
   virtual void attach(const HostView&) {}
-  /// A leaf was split into children: hand its light down so a new sender is never dark. Serial.
+  /// A leaf was split into children (already readable in the view): hand its light down so a new
+  /// sender is never dark. Serial.
   virtual void split(NodeId /*parent*/, std::span<const NodeId> /*children*/) {}
 
   // Sending: const, concurrent with each other, never during the phases below.
   /// The extension's share of a node's exitant radiant intensity toward unit dir, W/sr.
   virtual Rgb intensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }
+  /// Its mean over a convex spherical polygon of unit directions (the receiver seen from the node):
+  /// what a link delivers to an extended receiver; a narrow lobe must not be sampled at a few points.
+  virtual Rgb meanIntensity(NodeId n, std::span<const Vec3> polygon) const {
+    Vec3 c(0.0);
+    for (const Vec3& d : polygon) c += d;
+    return glm::length(c) > 0.0 ? intensity(n, glm::normalize(c)) : Rgb(0.0);
+  }
   /// An upper bound of that share within acos(cosHalfAngle) of unit axis: the oracle's sight of highlights.
   virtual Rgb intensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
 
@@ -66,7 +74,8 @@ class Extension {
   virtual bool reflectsInGather() const { return false; }
 
   // Reflection: during the host's push, concurrent across leaves.
-  /// A simulated leaf with all its samples this iteration (its own and its ancestors', on its plane).
+  /// Every simulated leaf every iteration, with all its samples (its own and its ancestors', on its
+  /// plane; possibly none): its light replaces the previous iteration's.
   virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
 
   // Push/pull: children before parents, concurrent across disjoint subtrees.
@@ -83,6 +92,12 @@ class Extension {
   /// The unshot share of a node's exitant intensity toward unit dir, W/sr (what a shooter sends). Const,
   /// concurrent (as intensity()).
   virtual Rgb unshotIntensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }
+  /// Its mean over a convex spherical polygon of unit directions (as meanIntensity).
+  virtual Rgb unshotMeanIntensity(NodeId n, std::span<const Vec3> polygon) const {
+    Vec3 c(0.0);
+    for (const Vec3& d : polygon) c += d;
+    return glm::length(c) > 0.0 ? unshotIntensity(n, glm::normalize(c)) : Rgb(0.0);
+  }
   /// An upper bound of that share within acos(cosHalfAngle) of unit axis (the oracle while shooting).
   virtual Rgb unshotIntensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
   /// A node's unshot power, W per channel: how shooters are chosen and when shooting stops. Const, concurrent.
@@ -95,7 +110,8 @@ class Extension {
   virtual void shot(NodeId) {}
 
   // Energy audit: const, concurrent across leaves.
-  /// Power a simulated leaf sends through the extension, W per channel.
+  /// Power a simulated leaf sends through the extension, W per channel; the rest of the light the
+  /// extension owns there is absorbed (a lobe's albedo falls toward grazing).
   virtual Rgb reflectedPower(NodeId /*leaf*/) const { return Rgb(0.0); }
   /// Draws an exitant direction of that power from u1, u2 in [0, 1); returns the power the sample
   /// stands for (W per channel; its mean over draws is reflectedPower) and sets dir.
@@ -112,7 +128,8 @@ class Extension {
   virtual std::uint32_t formatVersion() const { return 1; }
   /// The extension's leaf data for the solution file's tagged section (the host adds name and version).
   virtual std::string save() const { return {}; }
-  /// Restores what save() wrote, over the leaves of a loaded solution; throws InputError when damaged.
+  /// Restores what save() wrote (its own options win over configure's), over the leaves of a loaded
+  /// solution; throws InputError when damaged.
   virtual void load(std::string_view /*bytes*/, const HostView&) {}
   /// Figures for stats.json's "extension" object.
   virtual std::vector<StatEntry> stats() const { return {}; }

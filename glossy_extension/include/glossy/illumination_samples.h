@@ -39,6 +39,7 @@ class IlluminationSamples : public hr::Extension {
   void split(hr::NodeId parent, std::span<const hr::NodeId> children) override;
 
   hr::Rgb intensity(hr::NodeId node, const hr::Vec3& dir) const override;
+  hr::Rgb meanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
   hr::Rgb intensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const override;
 
   void gather(hr::NodeId receiver, std::span<const hr::IncidentSample> samples) override;
@@ -48,6 +49,7 @@ class IlluminationSamples : public hr::Extension {
 
   bool canShoot() const override { return true; }
   hr::Rgb unshotIntensity(hr::NodeId node, const hr::Vec3& dir) const override;
+  hr::Rgb unshotMeanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
   hr::Rgb unshotIntensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const override;
   hr::Rgb unshotPower(hr::NodeId node) const override;
   void reflectShot(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override;
@@ -83,6 +85,10 @@ class IlluminationSamples : public hr::Extension {
   using Table = std::vector<std::unique_ptr<NodeLight>>;
   std::unique_ptr<NodeLight>* slot(Table& elements, Table& clusters, hr::NodeId node);
   std::unique_ptr<NodeLight>* slot(hr::NodeId node) { return slot(elements_, clusters_, node); }
+  /// A light's intensity toward unit dir and its mean over a spherical polygon, W/sr (what
+  /// intensity/meanIntensity and their unshot kin return; a null light sends nothing).
+  static hr::Rgb intensityOf(const NodeLight* l, const hr::Vec3& dir);
+  static hr::Rgb meanIntensityOf(const NodeLight* l, std::span<const hr::Vec3> polygon);
   /// Whether element i is a leaf of the attached view (display and the file need leaves only).
   bool isLeaf(std::size_t i) const;
   void finish(NodeLight& l) const;

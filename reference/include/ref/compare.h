@@ -21,18 +21,13 @@ struct Metrics {
 
 /// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, no
 /// pixel is left to compare, a pixel is not finite or negative, or the reference is black (mean 0).
-/// mask < 0: all pixels.
+/// mask < 0: all pixels; exclude: objects whose pixels are left out (e.g. the light sources).
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
-                const std::string& nameB = "B");
-
-/// The same over the pixels whose object is none of `excluded` (light sources: both images copy
-/// their radiance from the scene, and their brightness would swamp the mean); background pixels count.
-Metrics compareExcluding(const hr::Image& a, const hr::Image& b, const std::vector<std::uint32_t>& excluded,
-                         const std::string& nameA = "A", const std::string& nameB = "B");
+                const std::string& nameB = "B", const std::vector<std::uint32_t>& exclude = {});
 
 /// False colour of (a - b) / mean b: blue below, red above, white equal, saturating at +-range;
 /// pixels outside the mask are grey.
 void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask = -1,
-                        double range = 0.25);
+                        double range = 0.25, const std::vector<std::uint32_t>& exclude = {});
 
 }  // namespace ref

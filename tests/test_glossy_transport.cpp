@@ -1,0 +1,304 @@
+// Glossy transport end to end, host and extension together (--algorithm is): the spots a glossy
+// reflector throws on a wall against an independent integration of the optics, energy with glossy
+// surfaces, a diffuse scene's bits unchanged by the extension, saved solutions that render from any
+// camera like a fresh solve, hard cases, and thread independence.
+#include <gtest/gtest.h>
+#include <hr/camera.h>
+#include <hr/rng.h>
+#include <hr/solution_view.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <filesystem>
+
+#include "helpers.h"
+#include "registry.h"
+#include "test_dir.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::unique_ptr<hr::Extension> makeIs(const std::vector<hr::OptionValue>& options = {}) {
+  auto ext = adapters::findExtension("is").make();
+  ext->configure(options);
+  return ext;
+}
+
+/// The light an object receives: per-channel power (W) and its centroid (m), from a glossy solve.
+struct Spot {
+  hr::Rgb power{0.0};
+  hr::Vec3 centroid[3];
+};
+
+Spot receivedBy(const testutil::Solved& run, std::uint32_t object) {
+  Spot s;
+  hr::Vec3 moment[3] = {hr::Vec3(0.0), hr::Vec3(0.0), hr::Vec3(0.0)};
+  for (std::size_t i = 0; i < run.h->elements().size(); ++i) {
+    const auto& e = run.h->element(static_cast<std::uint32_t>(i));
+    if (!e.leaf() || run.h->patches()[e.patch].object != object) continue;
+    hr::Rgb p = e.area * run.solver->irradiance()[i];
+    s.power += p;
+    for (int c = 0; c < 3; ++c) moment[c] += p[c] * e.center;
+  }
+  for (int c = 0; c < 3; ++c) s.centroid[c] = moment[c] / s.power[c];
+  return s;
+}
+
+/// The same, integrated from the optics alone: every light sends L_e from its disk to the
+/// reflector (a grid of points over both), the reflector's specular lobe f_s = rho_s (n+2)/(2 pi)
+/// cos^n(alpha) sends it on (directions drawn from the lobe, weight rho_s (n+2)/(n+1) cos theta_o),
+/// and what reaches the wall plane is summed. One bounce, no solver involved.
+Spot spotFromOptics(const hr::Scene& sc, std::uint32_t reflector, double wallZ) {
+  const hr::Object& r = sc.objects[reflector];
+  const hr::Material& m = sc.materials[sc.materialIndex.at(r.material)];
+  const hr::Vec3 a = r.quad[0], b = r.quad[1], d = r.quad[3];
+  const hr::Vec3 ea = b - a, eb = d - a, nr = glm::normalize(glm::cross(ea, eb));
+  const double areaR = glm::length(glm::cross(ea, eb));
+  Spot s;
+  hr::Vec3 moment[3] = {hr::Vec3(0.0), hr::Vec3(0.0), hr::Vec3(0.0)};
+  hr::Rng rng(7, 1);
+  const int NR = 24, NL = 4, NO = 64;
+  // The lights as the scene tessellates them (a 16-sided disk holds 2.6 % less area than a circle).
+  hr::Scene copy = sc;
+  hr::TessellationReport rep;
+  const std::vector<hr::Patch> patches = hr::buildPatches(copy, rep);
+  for (const hr::Patch& light : patches) {
+    const hr::Material& lm = sc.materials[light.material];
+    if (!lm.emitter()) continue;
+    const hr::Vec3 nl = light.normal;
+    const double areaL = light.area;
+    for (int i = 0; i < NR * NR; ++i) {
+      hr::Vec3 y = a + ea * ((i % NR + rng.uniform()) / NR) + eb * ((i / NR + rng.uniform()) / NR);
+      for (int j = 0; j < NL; ++j) {
+        hr::Vec3 z = light.poly.sample((j + rng.uniform()) / NL, rng.uniform());
+        hr::Vec3 wi = z - y;
+        double dist2 = glm::dot(wi, wi);
+        wi /= std::sqrt(dist2);
+        double ci = glm::dot(nr, wi), cz = -glm::dot(nl, wi);
+        if (ci <= 0.0 || cz <= 0.0) continue;
+        // Irradiance at y from this bit of the light, times y's share of the reflector's area, W/m^2 * m^2.
+        hr::Rgb dPhi = lm.emission * (ci * cz / dist2) * (areaL / NL) * (areaR / (NR * NR));
+        const hr::Vec3 mir = 2.0 * glm::dot(nr, wi) * nr - wi;
+        hr::Vec3 mu, mv;
+        hr::Vec3 t = std::abs(mir.x) > 0.9 ? hr::Vec3(0, 1, 0) : hr::Vec3(1, 0, 0);
+        mu = glm::normalize(glm::cross(t, mir)), mv = glm::cross(mir, mu);
+        for (int k = 0; k < NO; ++k) {
+          double cosA = std::pow(rng.uniform(), 1.0 / (m.exponent + 1.0)), sinA = std::sqrt(1.0 - cosA * cosA);
+          double ph = 2.0 * hr::kPi * rng.uniform();
+          hr::Vec3 wo = cosA * mir + sinA * (std::cos(ph) * mu + std::sin(ph) * mv);
+          double co = glm::dot(nr, wo);
+          if (co <= 0.0) continue;
+          if (wo.z >= 0.0) continue;
+          double tt = (wallZ - y.z) / wo.z;
+          hr::Vec3 h = y + tt * wo;
+          if (std::abs(h.x) > 3.0 || h.y < 0.0 || h.y > 3.0) continue;
+          hr::Rgb p = dPhi * m.specular * ((m.exponent + 2.0) / (m.exponent + 1.0) * co / NO);
+          s.power += p;
+          for (int c = 0; c < 3; ++c) moment[c] += p[c] * h;
+        }
+      }
+    }
+  }
+  for (int c = 0; c < 3; ++c) s.centroid[c] = moment[c] / s.power[c];
+  return s;
+}
+
+TEST(GlossyTransport, ThreeLightsSpotsLandWhereTheOpticsPutThem) {
+  // The three-lights scene with a black floor and a reflector without a diffuse part: all the wall
+  // receives is then what the reflector's lobe throws on it (the lights face away from the wall), one
+  // bounce, which the optics integrate without the solver.
+  std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json");
+  auto blacken = [&](const std::string& mat, const std::string& from) {
+    auto at = json.find("\"" + mat + "\"");
+    ASSERT_NE(at, std::string::npos);
+    at = json.find(from, at);
+    ASSERT_NE(at, std::string::npos);
+    json.replace(at, from.size(), "\"diffuse\": [0, 0, 0]");
+  };
+  blacken("floor", "\"diffuse\": [\n    0.4,\n    0.4,\n    0.4\n   ]");
+  blacken("reflector", "\"diffuse\": [\n    0.05,\n    0.05,\n    0.05\n   ]");
+  hr::Scene sc = hr::parseScene(json, "three_lights.json");
+  hr::SolverOptions o = hr::SolverOptions::from(sc.settings);
+  auto ext = makeIs();
+  auto run = testutil::solveText(json, o, ext.get());
+  Spot got = receivedBy(run, 1), want = spotFromOptics(sc, 2, -3.0);
+  std::printf("spot power (W, RGB) %.4g %.4g %.4g, optics %.4g %.4g %.4g; centroid offsets (cm) %.2f %.2f %.2f\n",
+              got.power.x, got.power.y, got.power.z, want.power.x, want.power.y, want.power.z,
+              100 * glm::length(got.centroid[0] - want.centroid[0]), 100 * glm::length(got.centroid[1] - want.centroid[1]),
+              100 * glm::length(got.centroid[2] - want.centroid[2]));
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE("channel " + std::to_string(c));
+    EXPECT_NEAR(got.power[c] / want.power[c], 1.0, 0.05) << "spot power " << got.power[c] << " W vs " << want.power[c];
+    EXPECT_LT(glm::length(got.centroid[c] - want.centroid[c]), 0.02)
+        << "centroid (" << got.centroid[c].x << ", " << got.centroid[c].y << ") vs (" << want.centroid[c].x << ", "
+        << want.centroid[c].y << ")";
+  }
+}
+
+/// Emitted = absorbed + escaped within a tolerance, per channel, and the radiosity finite.
+void expectBalanced(const testutil::Solved& s, double tol, const std::string& what) {
+  for (int c = 0; c < 3; ++c) {
+    if (s.stats.emittedW[c] <= 0.0) continue;
+    double imbalance = (s.stats.emittedW[c] - s.stats.absorbedW[c] - s.stats.escapedW[c]) / s.stats.emittedW[c];
+    EXPECT_LT(std::abs(imbalance), tol) << what << ", channel " << c;
+  }
+  for (const hr::Rgb& b : s.solver->radiosity()) ASSERT_TRUE(hr::allFinite(b)) << what;
+}
+
+TEST(GlossyTransport, ClosedGlossyFurnaceKeepsItsEnergy) {
+  // Every face emits and reflects through the lobe only (rho_d 0, rho_s 0.5, n 20): nothing escapes,
+  // all is absorbed where the lobe's albedo falls short of 1. Measured at the scene's eps 4e-4:
+  // 0.74 % (2.4 % at eps 2e-3: near-field glossy transfer is a placement error the threshold holds).
+  std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/glossy_furnace.json");
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  auto ext = makeIs();
+  auto s = testutil::solveText(json, o, ext.get());
+  ASSERT_TRUE(s.stats.converged);
+  expectBalanced(s, 0.01, "glossy furnace");
+  for (int c = 0; c < 3; ++c) EXPECT_LT(s.stats.escapedW[c], 1e-3 * s.stats.emittedW[c]);
+}
+
+/// Hard cases (issue 11): each finite everywhere with its energy within 1 %.
+TEST(GlossyTransport, HardCasesStayFiniteAndBalanced) {
+  const std::string lamp = R"({ "type": "quad", "material": "l", "vertices": [[-0.3,1.5,-0.3],[0.3,1.5,-0.3],[0.3,1.5,0.3],[-0.3,1.5,0.3]] })";
+  const std::string mats = R"("l": { "emission": [5,5,5] }, "w": { "diffuse": [0.6,0.6,0.6] },
+      "mirror": { "diffuse": [0.05,0.05,0.05], "specular": [0.9,0.9,0.9], "exponent": 10000 },
+      "g": { "diffuse": [0.3,0.3,0.3], "specular": [0.6,0.6,0.6], "exponent": 200 })";
+  auto scene = [&](const std::string& objects) {
+    return R"({ "materials": { )" + mats + R"( }, "objects": [ )" + objects + " ] }";
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"near-mirror floor (n = 10^4) under a lamp",
+       scene(R"({ "type": "quad", "material": "l", "vertices": [[-0.3,1.5,0.3],[0.3,1.5,0.3],[0.3,1.5,-0.3],[-0.3,1.5,-0.3]] },
+              { "type": "quad", "material": "mirror", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]] },
+              { "type": "quad", "material": "w", "vertices": [[-2,0,-2],[2,0,-2],[2,2,-2],[-2,2,-2]] })")},
+      {"lamp at grazing incidence on a glossy floor",
+       scene(R"({ "type": "quad", "material": "l", "vertices": [[-3,0.02,-0.3],[-3,0.32,-0.3],[-3,0.32,0.3],[-3,0.02,0.3]] },
+              { "type": "quad", "material": "g", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]] },
+              { "type": "quad", "material": "w", "vertices": [[2,0,-2],[2,0,2],[2,2,2],[2,2,-2]] })")},
+      {"glossy and diffuse faces touching along an edge",
+       scene(R"({ "type": "quad", "material": "l", "vertices": [[0.2,1.5,0.2],[0.8,1.5,0.2],[0.8,1.5,0.8],[0.2,1.5,0.8]] },
+              { "type": "quad", "material": "g", "vertices": [[0,0,0],[0,0,1],[1,0,1],[1,0,0]] },
+              { "type": "quad", "material": "w", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]] })")},
+      {"glossy surface seen exactly edge-on",
+       scene(lamp + R"(, { "type": "quad", "material": "g", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]] } ], "cameras": [
+              { "name": "edge", "eye": [0,0,4], "look_at": [0,0,0], "up": [0,1,0], "fov_y_deg": 40, "width": 64, "height": 48 })")},
+  };
+  for (const auto& [what, json] : cases) {
+    SCOPED_TRACE(what);
+    hr::SolverOptions o;
+    o.eps = 2e-4;
+    auto ext = makeIs();
+    auto s = testutil::solveText(json, o, ext.get());
+    expectBalanced(s, 0.01, what);
+    // Its images from the saved solution are finite too, the edge-on view included.
+    hr::Solution sol = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
+    if (sol.cameras.empty()) sol.cameras.push_back(hr::autoCamera(s.h->bounds()));
+    for (const hr::Camera& cam : sol.cameras) {
+      hr::Image img = hr::render(sol, cam, ext.get());
+      for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v));
+    }
+  }
+}
+
+TEST(GlossyTransport, OneAndTwoThreadsGiveTheSameBits) {
+  std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json");
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = 4e-4;
+  std::vector<hr::Rgb> radiosity[2];
+  std::string saved[2];
+  for (int t = 0; t < 2; ++t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t + 1));
+    auto ext = makeIs();
+    auto s = testutil::solveText(json, o, ext.get());
+    radiosity[t] = s.solver->radiosity();
+    saved[t] = ext->save();
+  }
+  ASSERT_EQ(radiosity[0].size(), radiosity[1].size());
+  EXPECT_EQ(std::memcmp(radiosity[0].data(), radiosity[1].data(), radiosity[0].size() * sizeof(hr::Rgb)), 0);
+  EXPECT_EQ(saved[0], saved[1]) << "the extension's distributions, byte for byte";
+}
+
+/// Renders a solution from a camera looking at the reflector of the three-lights scene.
+hr::Camera atReflector(const hr::Vec3& eye) {
+  hr::Camera c;
+  c.name = "reflector";
+  c.eye = eye;
+  c.lookAt = hr::Vec3(0, 0.6, 0.3);
+  c.fovYDeg = 30;
+  c.width = 96;
+  c.height = 72;
+  return c;
+}
+
+TEST(GlossyTransport, ASavedSolutionRendersAnyCameraAsTheFreshOneDoes) {
+  std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json");
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = 4e-4;
+  auto ext = makeIs();
+  auto s = testutil::solveText(json, o, ext.get());
+  hr::Solution fresh = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
+  fresh.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
+  const fs::path file = testutil::testDir() / "s.ghrs";
+  hr::saveSolution(fresh, file.string());
+  hr::Solution loaded = hr::loadSolution(file.string());
+  hr::SolutionView view(loaded);
+  auto back = adapters::findExtension(loaded.extension.name).make();
+  ASSERT_EQ(back->formatVersion(), loaded.extension.version);
+  back->load(loaded.extension.bytes, view);
+  // Two eyes on the wall's side, seeing the reflector's glossy front and the lamps in it.
+  const hr::Vec3 eyes[2] = {hr::Vec3(-0.6, 1.6, -2.6), hr::Vec3(0.6, 1.6, -2.6)};
+  hr::Image images[2];
+  for (int k = 0; k < 2; ++k) {
+    hr::Image a = hr::render(fresh, atReflector(eyes[k]), ext.get()), b = hr::render(loaded, atReflector(eyes[k]), back.get());
+    double d2 = 0.0, m = 0.0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) d2 += double(a.rgb[i] - b.rgb[i]) * (a.rgb[i] - b.rgb[i]), m += a.rgb[i];
+    ASSERT_GT(m, 0.0);
+    EXPECT_LE(std::sqrt(d2 / a.rgb.size()) / (m / a.rgb.size()), 1e-3) << "relative RMSE, eye " << k;
+    images[k] = std::move(b);
+  }
+  // The highlight moves with the eye: the reflector's glossy light (the render less its diffuse
+  // part, B / pi) differs between the two eyes on most of the reflector's pixels.
+  hr::Image diffuse[2] = {hr::render(loaded, atReflector(eyes[0])), hr::render(loaded, atReflector(eyes[1]))};
+  int onReflector = 0, changed = 0;
+  for (std::size_t p = 0; p < images[0].objectId.size(); ++p) {
+    if (images[0].objectId[p] != 2 || images[1].objectId[p] != 2) continue;
+    ++onReflector;
+    double g0 = hr::luminance(hr::Rgb(images[0].rgb[3 * p], images[0].rgb[3 * p + 1], images[0].rgb[3 * p + 2]) -
+                              hr::Rgb(diffuse[0].rgb[3 * p], diffuse[0].rgb[3 * p + 1], diffuse[0].rgb[3 * p + 2]));
+    double g1 = hr::luminance(hr::Rgb(images[1].rgb[3 * p], images[1].rgb[3 * p + 1], images[1].rgb[3 * p + 2]) -
+                              hr::Rgb(diffuse[1].rgb[3 * p], diffuse[1].rgb[3 * p + 1], diffuse[1].rgb[3 * p + 2]));
+    if (std::abs(g0 - g1) > 0.05 * std::max(g0, g1)) ++changed;
+  }
+  ASSERT_GT(onReflector, 50);
+  EXPECT_GT(changed, onReflector / 2) << changed << " of " << onReflector << " reflector pixels changed";
+}
+
+TEST(GlossyTransport, ADiffuseSceneWithTheExtensionIsTheCoreToTheBit) {
+  const fs::path dir = testutil::testDir();
+  std::string out;
+  for (const char* alg : {"diffuse", "is"})
+    ASSERT_EQ(testutil::runCli(std::string("solve --eps 1e-3 --seed 5 --quiet --algorithm ") + alg + " -o " + (dir / alg).string(), out), 0) << out;
+  for (const char* file : {"front.exr", "front.png", "solution.vtp"})
+    EXPECT_EQ(readFile((dir / "diffuse" / file).string()), readFile((dir / "is" / file).string())) << file;
+  hr::Solution a = hr::loadSolution((dir / "diffuse" / "solution.ghrs").string()),
+               b = hr::loadSolution((dir / "is" / "solution.ghrs").string());
+  EXPECT_EQ(b.algorithm, "is");
+  EXPECT_TRUE(b.extension.name.empty()) << "an extension that simulates nothing is not loaded";
+  ASSERT_EQ(a.elements.size(), b.elements.size());
+  for (std::size_t i = 0; i < a.elements.size(); ++i) ASSERT_EQ(a.elements[i].radiosity, b.elements[i].radiosity);
+}
+
+}  // namespace
