@@ -32,20 +32,27 @@ double worstObjectDifference(const testutil::Solved& a, const testutil::Solved& 
   return worst;
 }
 
-// Both schemes converge to the same answer. Measured worst object and channel: see the printout
-// (tolerance 0.5 %, the acceptance bar; the seed-to-seed spread of one scheme at this eps is of the
-// same order, so the threshold is fine enough for that noise to stay below it).
+// Both schemes converge to the same answer as the threshold falls, but not at the same rate:
+// shooters are patches, so shooting never sends through cluster senders (intensity tables, far-field
+// model) as gathering does, and each scheme's discretisation error is its own. Worst object and
+// channel, |shoot / gather - 1| (floor, green): 0.89 % at eps 2e-4, 0.34-0.63 % at 5e-5 (seeds 1,
+// 2), 0.10-0.21 % at 2e-5 (seeds 1-3); gathering's own seed-to-seed spread is 0.1 %. The bar
+// (0.5 %) is held where the schemes' difference is below it for every seed tried: eps 2e-5.
 TEST(Shooting, AgreesWithGatheringOnTheCornellBox) {
-  hr::SolverOptions o = testutil::options(5e-5, 6);
+  hr::SolverOptions o = testutil::options(2e-5, 7);
   o.tolerance = 1e-5;
+  o.seed = 2;
   auto g = testutil::solveText(hr::kDefaultSceneJson, o);
   auto s = testutil::solveText(hr::kDefaultSceneJson, shooting(o));
   ASSERT_TRUE(g.stats.converged);
   ASSERT_TRUE(s.stats.converged);
   double worst = worstObjectDifference(s, g);
-  std::printf("Cornell box, eps 5e-5: worst object mean shoot/gather - 1 = %.3g (%d passes, %d iterations)\n", worst,
+  std::printf("Cornell box, eps 2e-5: worst object mean shoot/gather - 1 = %.3g (%d passes, %d iterations)\n", worst,
               s.stats.iterations, g.stats.iterations);
   EXPECT_LT(worst, 0.005);
+  for (const auto* r : {&g, &s})
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR((r->stats.absorbedW[c] + r->stats.escapedW[c]) / r->stats.emittedW[c], 1.0, 0.01) << "channel " << c;
 }
 
 TEST(Shooting, AgreesWithGatheringAndTheClosedFormInTheFurnace) {
