@@ -7,10 +7,15 @@
 // + pull for RC), the IS/RC ratios as the paper's "percent gain" (1 - IS/RC), and the image
 // difference between the two (light sources left out). Then IS shooting against IS gathering on
 // the same scenes: time, push/pull share of it, and the most samples held in one pass/iteration.
-//   bench_tables [SOURCE_DIR] [--quick]   (--quick: the first three-lights row only)
+// Last, the paper's Table 1 on the empty Soda Shoppe room (scenes/soda_room.json): RC with the
+// non-adaptive tetrahedron basis against the adaptive Haar basis at (max) levels 3 and 4:
+// distributions, coefficients (the paper's "triangles"), time, and the glossy floor's image error
+// against a path-traced reference of the same camera.
+//   bench_tables [SOURCE_DIR] [--quick]   (--quick: the first three-lights row only, no Table 1)
 #include <hr/output.h>
 #include <hr/solver.h>
 #include <ref/compare.h>
+#include <ref/path_tracer.h>
 
 #include <cstdio>
 #include <cstring>
@@ -25,7 +30,7 @@ namespace {
 
 struct Row {
   double seconds = 0, pushPullShare = 0, coefficients = 0, peakCoefficients = 0, brdf = 0, visits = 0;
-  double samplesPeak = 0, imbalance = 0, peakRssMB = 0;
+  double samplesPeak = 0, imbalance = 0, distributions = 0, peakRssMB = 0;
   bool ok = false;
 };
 
@@ -34,6 +39,7 @@ struct Setting {
   const char* dirEps;
   const char* minLevel;
   const char* maxLevel;
+  const char* basis = "haar";
 };
 
 /// Solves `scene` with an extension and writes its first camera's image to `image` (EXR).
@@ -47,7 +53,10 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
   o.iteration = it;
   o.maxIterations = 2000;
   auto ext = adapters::findExtension(algorithm).make();
-  ext->configure({{"dir-eps", set.dirEps}, {"dir-min-level", set.minLevel}, {"dir-max-level", set.maxLevel}});
+  if (std::strcmp(set.basis, "tetra") == 0)
+    ext->configure({{"basis", "tetra"}, {"tetra-level", set.maxLevel}});
+  else
+    ext->configure({{"dir-eps", set.dirEps}, {"dir-min-level", set.minLevel}, {"dir-max-level", set.maxLevel}});
   hr::Solver solver(sc, h, vis, o, ext.get());
   hr::SolveStats st = solver.solve();
   auto s = ext->stats();
@@ -55,6 +64,7 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
   r.seconds = st.tTotal;
   r.pushPullShare = st.pushPull.wall / st.tTotal;
   r.coefficients = bench::stat(s, "coefficients_total");
+  r.distributions = bench::stat(s, "distributions");
   r.peakCoefficients = bench::stat(s, "coefficients_held_peak");
   r.brdf = bench::stat(s, "brdf_evaluations");
   r.visits = bench::stat(s, "reflect_leaf_visits") + bench::stat(s, "pull_node_visits") + bench::stat(s, "rc_descent_node_visits");
@@ -72,6 +82,46 @@ double imageDifference(const std::string& src, const Setting& set, const std::st
   return ref::compare(hr::readExr(a), hr::readExr(b), -1, a, b, bench::lights(sc)).relRmse;
 }
 
+/// The paper's Table 1: RC with the tetrahedron basis and with Haar at levels 3 and 4 on the empty
+/// room, the glossy floor's image against a path-traced reference.
+void table1(const std::string& src, const std::filesystem::path& dir) {
+  const Setting room{"soda_room", "0.5", "1", "3"};
+  hr::Scene sc = hr::parseScene(bench::readFile(src + "/scenes/soda_room.json"), "soda_room");
+  hr::TessellationReport rep;
+  ref::PathTracer pt(sc, hr::buildPatches(sc, rep));
+  ref::Options ro;
+  ro.spp = 256;
+  ref::CameraResult reference = pt.render(sc.cameras.front(), ro);
+  const std::string refPath = (dir / "table1_reference.exr").string();
+  hr::writeExr(reference.image, refPath);
+  long floor = -1;  // the object holding the glossy floor tile
+  for (std::uint32_t o = 0; o < sc.objects.size() && floor < 0; ++o)
+    if (sc.objects[o].material.find("floor_tile") != std::string::npos) floor = long(o);
+  std::printf("\nTable 1: empty Soda room, RC, non-adaptive tetrahedron vs adaptive Haar (reference %d spp, rel. std "
+              "error %.2g %%; floor = object %ld)\n",
+              reference.spp, 100.0 * reference.relStdError, floor);
+  std::printf("%5s | %6s %6s | %9s %9s | %7s %7s | %8s %8s\n", "level", "distr", "", "tetra coef", "Haar coef", "tetra s",
+              "Haar s", "tetra fl", "Haar fl");
+  for (const char* level : {"3", "4"}) {
+    Setting tetra = room, haar = room;
+    tetra.basis = "tetra", tetra.maxLevel = level, haar.maxLevel = level;
+    const std::string ti = (dir / (std::string("t1_tetra") + level + ".exr")).string(),
+                      hi = (dir / (std::string("t1_haar") + level + ".exr")).string();
+    Row t = bench::forked<Row>([&] { return solve(src, tetra, "rc", hr::Iteration::Gather, ti); });
+    Row h = bench::forked<Row>([&] { return solve(src, haar, "rc", hr::Iteration::Gather, hi); });
+    if (!t.ok || !h.ok) {
+      std::printf("%5s failed\n", level);
+      continue;
+    }
+    auto floorError = [&](const std::string& img) {
+      return ref::compare(hr::readExr(img), hr::readExr(refPath), floor, img, refPath).relRmse;
+    };
+    std::printf("%5s | %6.0f %6.0f | %9.0f %9.0f | %7.2f %7.2f | %8.4f %8.4f\n", level, t.distributions, h.distributions,
+                t.coefficients, h.coefficients, t.seconds, h.seconds, floorError(ti), floorError(hi));
+  }
+  std::printf("(distr: distributions held, tetra and Haar; fl: the floor's image rel. RMSE against the reference)\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,7 +132,8 @@ int main(int argc, char** argv) {
                                    {"three_lights", "0.1", "1", "3"},
                                    {"three_lights", "0.5", "1", "4"},
                                    {"three_lights", "0.5", "1", "5"},
-                                   {"glossy_sphere", "0.5", "1", "3"}};
+                                   {"glossy_sphere", "0.5", "1", "3"},
+                                   {"simple_soda", "0.5", "1", "3"}};
   if (quick) settings.resize(1);
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("bench_tables_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
@@ -123,6 +174,7 @@ int main(int argc, char** argv) {
                 set.minLevel, set.maxLevel, g.seconds, sh.seconds, 100 * g.pushPullShare, 100 * sh.pushPullShare,
                 g.samplesPeak, sh.samplesPeak, imageDifference(src, set, image(k, "shoot"), image(k, "is")));
   }
+  if (!quick) table1(src, dir);
   std::filesystem::remove_all(dir);
   return 0;
 }
