@@ -47,8 +47,9 @@ inline void sourceAndQuick(int argc, char** argv, std::string& src, bool& quick)
   }
 }
 
-/// Runs `run` (returning a trivially copyable Row with `ok` and `peakRssMB`) in a child process;
-/// the Row comes back through a pipe with the child's peak RSS filled in.
+/// Runs `run` (returning a trivially copyable Row with `ok`, `peakRssMB` and `cpuSeconds`) in a
+/// child process; the Row comes back through a pipe with the child's peak RSS and CPU time (user +
+/// system) filled in.
 template <class Row, class F>
 Row forked(F&& run) {
   int fd[2];
@@ -69,6 +70,7 @@ Row forked(F&& run) {
   wait4(pid, &status, 0, &ru);
   if (got != ssize_t(sizeof r) || !WIFEXITED(status) || WEXITSTATUS(status) != 0) r.ok = false;
   r.peakRssMB = double(ru.ru_maxrss) / 1024.0;
+  r.cpuSeconds = double(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
   return r;
 }
 

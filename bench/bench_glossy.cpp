@@ -33,7 +33,7 @@ struct Config {
 struct Row {
   double total = 0, visibility = 0, refine = 0, gather = 0, pushPull = 0, energy = 0;
   double links = 0, coefficients = 0, peakCoefficients = 0, samplesPeak = 0, samplesTotal = 0, reflectS = 0;
-  double relRmse = 0, meanRatio = 0, imbalance = 0, peakRssMB = 0;
+  double relRmse = 0, meanRatio = 0, imbalance = 0, peakRssMB = 0, cpuSeconds = 0;
   bool ok = false;
 };
 

@@ -26,7 +26,7 @@ const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull
 
 struct Row {
   double wall[kPhases] = {}, cpu[kPhases] = {};
-  double peakRssMB = 0;
+  double peakRssMB = 0, cpuSeconds = 0;
   bool ok = false;
 };
 

@@ -2,7 +2,8 @@
 // against the Radiance Clustering baseline (RC, immediate push), both gathering as the paper ran
 // them, on the three-lights scene at (--dir-eps, --dir-min-level/--dir-max-level) = (0.5, 1/3),
 // (0.1, 1/3), (0.5, 1/4), (0.5, 1/5) and on the glossy-sphere scene at (0.5, 1/3): basis
-// coefficients at the end and at their peak, solve time, peak RSS (each solve in its own forked
+// coefficients at the end and at their peak, solve time (CPU seconds of a one-thread solve: the wall
+// clock of a shared machine drifts by tens of percent between runs), peak RSS (each solve in its own forked
 // process), BRDF evaluations and extension node visits (reflect + pull for IS; per-sample descents
 // + pull for RC), the IS/RC ratios as the paper's "percent gain" (1 - IS/RC), and the image
 // difference between the two (light sources left out). Then IS shooting against IS gathering on
@@ -16,9 +17,11 @@
 #include <hr/solver.h>
 #include <ref/compare.h>
 #include <ref/path_tracer.h>
+#include <tbb/global_control.h>
 
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,7 +33,7 @@ namespace {
 
 struct Row {
   double seconds = 0, pushPullShare = 0, coefficients = 0, peakCoefficients = 0, brdf = 0, visits = 0;
-  double samplesPeak = 0, imbalance = 0, distributions = 0, peakRssMB = 0;
+  double samplesPeak = 0, imbalance = 0, distributions = 0, peakRssMB = 0, cpuSeconds = 0;
   bool ok = false;
 };
 
@@ -44,8 +47,11 @@ struct Setting {
 
 /// Solves `scene` with an extension and writes its first camera's image to `image` (EXR).
 Row solve(const std::string& src, const Setting& set, const char* algorithm, hr::Iteration it, const std::string& image) {
-  const std::string json = bench::readFile(src + "/scenes/" + set.scene + ".json");
-  hr::Scene sc = hr::parseScene(json, set.scene);
+  // One thread: the CPU time of the child is then the solve's time, and other work on a shared
+  // machine stretches the wall clock but not that (the ratios are taken from it).
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const std::string path = src + "/scenes/" + set.scene + ".json";
+  hr::Scene sc = hr::parseScene(bench::readFile(path), path);
   hr::TessellationReport rep;
   hr::Hierarchy h(hr::buildPatches(sc, rep));
   hr::Visibility vis(h.patches());
@@ -58,11 +64,14 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
   else
     ext->configure({{"dir-eps", set.dirEps}, {"dir-min-level", set.minLevel}, {"dir-max-level", set.maxLevel}});
   hr::Solver solver(sc, h, vis, o, ext.get());
+  timespec t0{}, t1{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t0);
   hr::SolveStats st = solver.solve();
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t1);
   auto s = ext->stats();
   Row r;
-  r.seconds = st.tTotal;
-  r.pushPullShare = st.pushPull.wall / st.tTotal;
+  r.seconds = double(t1.tv_sec - t0.tv_sec) + 1e-9 * double(t1.tv_nsec - t0.tv_nsec);  // CPU s of the solve
+  r.pushPullShare = st.pushPull.cpu / std::max(1e-12, r.seconds);
   r.coefficients = bench::stat(s, "coefficients_total");
   r.distributions = bench::stat(s, "distributions");
   r.peakCoefficients = bench::stat(s, "coefficients_held_peak");
@@ -78,7 +87,8 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
 
 /// Image relative RMSE of a against b, lights left out.
 double imageDifference(const std::string& src, const Setting& set, const std::string& a, const std::string& b) {
-  hr::Scene sc = hr::parseScene(bench::readFile(src + "/scenes/" + set.scene + ".json"), set.scene);
+  const std::string path = src + "/scenes/" + set.scene + ".json";
+  hr::Scene sc = hr::parseScene(bench::readFile(path), path);
   return ref::compare(hr::readExr(a), hr::readExr(b), -1, a, b, bench::lights(sc)).relRmse;
 }
 
@@ -86,7 +96,8 @@ double imageDifference(const std::string& src, const Setting& set, const std::st
 /// room, the glossy floor's image against a path-traced reference.
 void table1(const std::string& src, const std::filesystem::path& dir) {
   const Setting room{"soda_room", "0.5", "1", "3"};
-  hr::Scene sc = hr::parseScene(bench::readFile(src + "/scenes/soda_room.json"), "soda_room");
+  const std::string path = src + "/scenes/soda_room.json";
+  hr::Scene sc = hr::parseScene(bench::readFile(path), path);
   hr::TessellationReport rep;
   ref::PathTracer pt(sc, hr::buildPatches(sc, rep));
   ref::Options ro;
