@@ -37,13 +37,14 @@ inline std::vector<std::uint32_t> lights(const hr::Scene& sc) {
   return ids;
 }
 
-/// The common command line: [SOURCE_DIR] [--quick].
+/// The common command line: [SOURCE_DIR] [--quick] (other flags are the bench's own).
 inline void sourceAndQuick(int argc, char** argv, std::string& src, bool& quick) {
   for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--quick")
+    const std::string a = argv[i];
+    if (a == "--quick")
       quick = true;
-    else
-      src = argv[i];
+    else if (a.rfind("--", 0) != 0)
+      src = a;
   }
 }
 

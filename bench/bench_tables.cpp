@@ -12,7 +12,8 @@
 // non-adaptive tetrahedron basis against the adaptive Haar basis at (max) levels 3 and 4:
 // distributions, coefficients (the paper's "triangles"), time, and the glossy floor's image error
 // against a path-traced reference of the same camera.
-//   bench_tables [SOURCE_DIR] [--quick]   (--quick: the first three-lights row only, no Table 1)
+//   bench_tables [SOURCE_DIR] [--quick | --table1]   (--quick: the first three-lights row only, no
+//   Table 1; --table1: Table 1 alone)
 #include <hr/output.h>
 #include <hr/solver.h>
 #include <ref/compare.h>
@@ -139,6 +140,8 @@ int main(int argc, char** argv) {
   std::string src = GHR_SOURCE_DIR;
   bool quick = false;
   bench::sourceAndQuick(argc, argv, src, quick);
+  bool onlyTable1 = false;
+  for (int i = 1; i < argc; ++i) onlyTable1 = onlyTable1 || std::strcmp(argv[i], "--table1") == 0;
   std::vector<Setting> settings = {{"three_lights", "0.5", "1", "3"},
                                    {"three_lights", "0.1", "1", "3"},
                                    {"three_lights", "0.5", "1", "4"},
@@ -146,6 +149,7 @@ int main(int argc, char** argv) {
                                    {"glossy_sphere", "0.5", "1", "3"},
                                    {"simple_soda", "0.5", "1", "3"}};
   if (quick) settings.resize(1);
+  if (onlyTable1) settings.clear();
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("bench_tables_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   auto image = [&](std::size_t k, const char* what) { return (dir / (std::to_string(k) + what + ".exr")).string(); };
