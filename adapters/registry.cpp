@@ -2,6 +2,7 @@
 #include "registry.h"
 
 #include "bright/illumination_samples.h"
+#include "bright/radiance_clustering.h"
 
 namespace adapters {
 
@@ -10,6 +11,8 @@ const std::vector<ExtensionEntry>& extensionTable() {
       {"diffuse", "plain diffuse hierarchical radiosity (no extension)", nullptr},
       {"is", "glossy global illumination with Illumination Samples (Stamminger et al., sections 3-4)",
        bright::makeIlluminationSamples},
+      {"rc", "the Radiance Clustering baseline: immediate push of every link to the leaves (Sillion et al. 1995; paper 2.2)",
+       bright::makeRadianceClustering},
   };
   return table;
 }

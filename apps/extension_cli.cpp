@@ -4,10 +4,16 @@
 #include "registry.h"
 
 void ExtensionOptions::addTo(CLI::App* command) {
+  // An option several extensions take (Radiance Clustering shares Illumination Samples' bases) is
+  // added once, its help naming every one of them.
   for (const auto& entry : adapters::extensionTable()) {
     if (!entry.make) continue;
     for (const hr::OptionSpec& o : entry.make()->options()) {
-      if (options_.count(o.name)) continue;
+      if (options_.count(o.name)) {
+        std::string d = options_[o.name]->get_description();
+        options_[o.name]->description(d.substr(0, d.size() - 1) + ", " + entry.name + ")");
+        continue;
+      }
       options_[o.name] = command->add_option("--" + o.name, values_[o.name],
                                              o.help + " (--algorithm " + entry.name + ")");
     }

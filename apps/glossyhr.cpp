@@ -37,7 +37,8 @@ namespace {
 
 struct SolveArgs {
   std::string scene, out = "out", algorithm = "diffuse", host = "bright";
-  std::optional<double> eps, tolerance;
+  std::string iteration;  // empty: the host's own scheme (the first of its HostEntry::iterations)
+  std::optional<double> eps, tolerance, shootFraction;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
   std::optional<double> maxImbalance;
@@ -64,7 +65,13 @@ int runSolve(const SolveArgs& a) {
   checkFlag("--threads", a.threads, L::kThreads);
   checkFlag("--seed", a.seed, L::kSeed);
   const HostEntry& host = findHost(a.host);
+  const std::string iteration = a.iteration.empty() ? host.defaultIteration() : a.iteration;
+  if (!host.iterates(iteration))
+    throw hr::InputError("--iteration " + iteration + ": the " + host.name + " host iterates by " + host.iterations +
+                         " only");
   checkFlag("--max-imbalance", a.maxImbalance, L::kMaxImbalance);
+  checkFlag("--shoot-fraction", a.shootFraction, L::kShootFraction);
+  if (a.shootFraction && iteration != "shoot") throw hr::InputError("--shoot-fraction: only with --iteration shoot");
   hr::Progress progress(a.quiet);
   progress.phase("loading scene");
   hr::Scene scene = a.scene.empty() ? hr::defaultScene() : hr::loadScene(a.scene);
@@ -87,6 +94,10 @@ int runSolve(const SolveArgs& a) {
   if (a.tolerance) opt.tolerance = *a.tolerance;
   if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
   if (a.maxImbalance) opt.maxImbalance = *a.maxImbalance;
+  opt.iteration = iteration == "shoot" ? hr::Iteration::Shoot : hr::Iteration::Gather;
+  if (a.shootFraction) opt.shootFraction = *a.shootFraction;
+  if (ext && opt.iteration == hr::Iteration::Shoot && !ext->canShoot())
+    throw hr::InputError("--iteration shoot: --algorithm " + a.algorithm + " gathers only (use --iteration gather)");
   int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 
@@ -128,13 +139,18 @@ int runSolve(const SolveArgs& a) {
   if (!a.quiet) {
     hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
     std::fprintf(stderr,
-                 "\nsummary: %s in %.2f s, %d iteration(s), %s\n"
+                 "\nsummary: %s in %.2f s, %d %s, %s\n"
                  "  %zu patches -> %zu elements (%zu leaves), %zu clusters, %zu links, %llu rays\n"
                  "  power (W, green channel): emitted %.4g, absorbed %.4g (%.3g by back faces), escaped %.4g, imbalance %.2f%%\n",
-                 run.scene.c_str(), st.tTotal, st.iterations, st.converged ? "converged" : st.diverged ? "DIVERGING" : "NOT converged",
+                 run.scene.c_str(), st.tTotal, st.iterations,
+                 st.iteration == hr::Iteration::Shoot ? "shooting pass(es)" : "iteration(s)",
+                 st.converged ? "converged" : st.diverged ? "DIVERGING" : "NOT converged",
                  st.initialPatches, st.elements, st.leaves, st.clusters, st.links,
                  static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
+    if (st.iteration == hr::Iteration::Shoot)
+      std::fprintf(stderr, "  unshot power left: %.4g W (luminance; %.2e of emitted)\n", st.unshotW,
+                   st.unshotW / std::max(hr::luminance(st.emittedW), 1e-300));
   }
   if (!st.energyOk) {
     hr::Rgb bal = st.emittedW - st.absorbedW - st.escapedW;
@@ -243,8 +259,16 @@ int main(int argc, char** argv) {
   solve->add_flag("--lambertian", sa.lambertian,
                   "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");
   std::string hostHelp = "radiosity host:";
-  for (const HostEntry& h : hostTable()) hostHelp += std::string(" ") + h.name + " (" + h.summary + "; --algorithm " + h.algorithms + ")";
+  for (const HostEntry& h : hostTable())
+    hostHelp += std::string(" ") + h.name + " (" + h.summary + "; --algorithm " + h.algorithms + "; --iteration " +
+                h.iterations + ")";
   solve->add_option("--host", sa.host, hostHelp)->capture_default_str();
+  solve->add_option("--iteration", sa.iteration,
+                    "gather (Jacobi over all links) or shoot (passes from the patches with the most unshot power); "
+                    "default: the host's first (bright: gather, vision: shoot)")
+      ->check(CLI::IsMember({"gather", "shoot"}));
+  solve->add_option("--shoot-fraction", sa.shootFraction,
+                    "shooting: patches with at least this fraction of the largest unshot power shoot together (default 0.1; 1: one per pass)");
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;

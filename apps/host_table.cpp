@@ -9,9 +9,9 @@
 const std::vector<HostEntry>& hostTable() {
   static const std::vector<HostEntry> table = {
       {"bright", "BRIGHT-like: everything tessellated at load, quadtree elements, stored links, gathering",
-       "diffuse, is", solveBright},
+       "diffuse, is, rc", "gather, shoot", solveBright},
       {"vision", "VISION-like: primitives kept whole, parameter-space elements, bounded radiosity, link-less shooting",
-       "diffuse", solveVision},
+       "diffuse", "shoot", solveVision},
   };
   return table;
 }

@@ -37,7 +37,13 @@ struct HostEntry {
   const char* name;
   const char* summary;
   const char* algorithms;  // the --algorithm values this host takes, for messages and --help
+  const char* iterations;  // the --iteration values it takes, its default first ("gather, shoot")
   HostResult (*solve)(HostJob&);
+  std::string defaultIteration() const { return std::string(iterations).substr(0, std::string(iterations).find(',')); }
+  bool iterates(const std::string& scheme) const {
+    const std::string list = std::string(", ") + iterations + ",";
+    return list.find(" " + scheme + ",") != std::string::npos;
+  }
 };
 
 const std::vector<HostEntry>& hostTable();

@@ -27,6 +27,7 @@ HostResult solveVision(HostJob& job) {
   vision::Solver solver(job.scene, hier, vis, job.opt, &job.progress);
   HostResult r;
   r.st = solver.solve();
+  r.st.iteration = hr::Iteration::Shoot;  // link-less shooting is the VISION-like host's only scheme
   job.progress.phase("writing outputs");
   r.sol = vision::makeSolution(job.scene, hier, vision::Display::Flat);
   return r;

@@ -11,18 +11,14 @@
 #include <hr/solver.h>
 #include <ref/compare.h>
 #include <ref/path_tracer.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "registry.h"
 
 namespace {
@@ -37,22 +33,12 @@ struct Config {
 struct Row {
   double total = 0, visibility = 0, refine = 0, gather = 0, pushPull = 0, energy = 0;
   double links = 0, coefficients = 0, peakCoefficients = 0, samplesPeak = 0, samplesTotal = 0, reflectS = 0;
-  double relRmse = 0, meanRatio = 0, imbalance = 0, peakRssMB = 0;
+  double relRmse = 0, meanRatio = 0, imbalance = 0, peakRssMB = 0, cpuSeconds = 0;
   bool ok = false;
 };
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-double stat(const std::vector<hr::StatEntry>& s, const char* name) {
-  for (const auto& e : s)
-    if (e.name == name) return e.value;
-  return 0.0;
-}
+using bench::readFile;
+using bench::stat;
 
 Row solveAndCompare(const std::string& json, const Config& c, const hr::Image& reference) {
   hr::Scene sc = hr::parseScene(json, "bench");
@@ -83,29 +69,6 @@ Row solveAndCompare(const std::string& json, const Config& c, const hr::Image& r
   ref::Metrics m = ref::compare(img, reference, -1, "solve", "reference", hr::emitterObjects(sc));
   r.relRmse = m.relRmse, r.meanRatio = m.meanRatio;
   r.ok = true;
-  return r;
-}
-
-template <class F>
-Row forked(F&& run) {
-  int fd[2];
-  if (pipe(fd) != 0) return {};
-  pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
-    Row r = run();
-    ssize_t w = write(fd[1], &r, sizeof r);
-    _exit(w == ssize_t(sizeof r) ? 0 : 1);
-  }
-  close(fd[1]);
-  Row r;
-  ssize_t got = read(fd[0], &r, sizeof r);
-  close(fd[0]);
-  int status = 0;
-  rusage ru{};
-  wait4(pid, &status, 0, &ru);
-  if (got != ssize_t(sizeof r) || !WIFEXITED(status) || WEXITSTATUS(status) != 0) r.ok = false;
-  r.peakRssMB = double(ru.ru_maxrss) / 1024.0;
   return r;
 }
 
@@ -150,7 +113,7 @@ int main(int argc, char** argv) {
                 "imbal%");
     Row base;
     for (const Config& c : configs) {
-      Row r = forked([&] { return solveAndCompare(json, c, reference.image); });
+      Row r = bench::forked<Row>([&] { return solveAndCompare(json, c, reference.image); });
       if (!r.ok) {
         std::printf("%-26s failed\n", c.label);
         continue;
@@ -169,7 +132,7 @@ int main(int argc, char** argv) {
   for (int k = 0; k < repeats; ++k)
     for (int a = 0; a < 2; ++a) {
       Config c{a ? "is" : "diffuse", a ? "is" : "diffuse", {}};
-      Row r = forked([&] {
+      Row r = bench::forked<Row>([&] {
         hr::Scene sc = hr::parseScene(cornell, "");
         hr::TessellationReport rep;
         hr::Hierarchy h(hr::buildPatches(sc, rep));

@@ -7,10 +7,8 @@
 #include <hr/output.h>
 #include <hr/solver.h>
 #include <ref/path_tracer.h>
-#include <sys/wait.h>
 #include <tbb/global_control.h>
 #include <time.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -19,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.h"
+
 namespace {
 
 constexpr int kPhases = 6;
@@ -26,6 +26,7 @@ const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull
 
 struct Row {
   double wall[kPhases] = {}, cpu[kPhases] = {};
+  double peakRssMB = 0, cpuSeconds = 0;
   bool ok = false;
 };
 
@@ -72,27 +73,6 @@ Row traceRun(int spp, int threads) {
   return r;
 }
 
-template <class F>
-Row forked(F&& run) {
-  int fd[2];
-  if (pipe(fd) != 0) return {};
-  pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
-    Row r = run();
-    ssize_t w = write(fd[1], &r, sizeof r);
-    _exit(w == ssize_t(sizeof r) ? 0 : 1);
-  }
-  close(fd[1]);
-  Row r;
-  ssize_t got = read(fd[0], &r, sizeof r);
-  close(fd[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (got != ssize_t(sizeof r) || !WIFEXITED(status) || WEXITSTATUS(status) != 0) r.ok = false;
-  return r;
-}
-
 void table(const char* title, const std::vector<int>& threads, const std::vector<Row>& rows, bool phases) {
   std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall");
   for (int p = phases ? 0 : kPhases - 1; p < kPhases; ++p)
@@ -113,12 +93,7 @@ void table(const char* title, const std::vector<int>& threads, const std::vector
 int main(int argc, char** argv) {
   std::string src = GHR_SOURCE_DIR;
   bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0)
-      quick = true;
-    else
-      src = argv[i];
-  }
+  bench::sourceAndQuick(argc, argv, src, quick);
   int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<int> threads = {1};
   for (int t = 2; t <= std::max(2, cores); t *= 2) threads.push_back(t);
@@ -136,12 +111,12 @@ int main(int argc, char** argv) {
   jobs.push_back({quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5});
   for (const Job& j : jobs) {
     std::vector<Row> rows;
-    for (int t : threads) rows.push_back(forked([&] { return solveRun(j.scene, j.eps, t); }));
+    for (int t : threads) rows.push_back(bench::forked<Row>([&] { return solveRun(j.scene, j.eps, t); }));
     table(j.title.c_str(), threads, rows, true);
   }
   const int spp = quick ? 32 : 256;
   std::vector<Row> rows;
-  for (int t : threads) rows.push_back(forked([&] { return traceRun(spp, t); }));
+  for (int t : threads) rows.push_back(bench::forked<Row>([&] { return traceRun(spp, t); }));
   table(("reference: Cornell box, " + std::to_string(spp) + " spp").c_str(), threads, rows, false);
   return 0;
 }

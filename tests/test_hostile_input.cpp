@@ -164,6 +164,13 @@ std::vector<Case> cases() {
       {"sh_order_with_haar", "solve --sh-order 3 --algorithm is -o {out}"},
       {"tetra_level_with_sh", "solve --tetra-level 2 --algorithm is --basis sh -o {out}"},
       {"extension_option_without_extension", "solve --basis haar --algorithm diffuse -o {out}"},
+      // Shooting (issue 13).
+      {"iteration_unknown", "solve --iteration foo -o {out}"},
+      {"shoot_fraction_0", "solve --shoot-fraction 0 --iteration shoot -o {out}"},
+      {"shoot_fraction_nan", "solve --shoot-fraction nan --iteration shoot -o {out}"},
+      {"shoot_fraction_when_gathering", "solve --shoot-fraction 0.5 -o {out}"},
+      {"iteration_shoot_with_rc", "solve --iteration shoot --algorithm rc -o {out}"},
+      {"iteration_gather_on_vision", "solve --iteration gather --host vision -o {out}"},
   };
   for (const auto& [name, args] : flags) {
     std::size_t at = args.find("--");

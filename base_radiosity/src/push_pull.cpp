@@ -4,6 +4,8 @@
 // radiosity is pulled up the quadtrees and cluster intensity tables are summed bottom-up. With an
 // extension, the same traversal carries Illumination Samples down subtrees it simulates and calls
 // the reflection and pull hooks (its light adds to the host's; the host's own values are unchanged).
+// Gathering replaces each leaf's light by what this iteration brought (Jacobi); a shooting pass adds
+// what it brought to both the radiosity and the unshot radiosity (and the extension's reflectShot).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -20,7 +22,6 @@ void gatherLinks(SolverState& s) {
   if (s.groupStart.size() < 2) return;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.groupStart.size() - 1, 16), [&](const auto& r) {
     s.clkGather.sawThread();
-    std::vector<IncidentSample> samples;
     for (std::size_t g = r.begin(); g != r.end(); ++g) {
       Rgb sum(0.0);
       NodeId recv = s.links[s.groupStart[g]].receiver;
@@ -31,15 +32,10 @@ void gatherLinks(SolverState& s) {
         sum += e;
       }
       if (!recv.isCluster()) s.Eg[recv.index()] = sum;
-      // Link gather hook: the receiver's Illumination Samples, for subtrees the extension simulates.
-      if (s.ext && s.isOwned(recv)) {
-        samples.clear();
-        for (std::uint32_t i = s.groupStart[g]; i < s.groupStart[g + 1]; ++i)
-          samples.push_back({Vec3(s.links[i].dir), Rgb(s.links[i].E)});
-        s.ext->gather(recv, samples);
-      }
     }
   });
+  // Link gather hook: the receivers' Illumination Samples, for subtrees the extension simulates.
+  if (s.ext) callGatherHooks(s);
 }
 
 namespace {
@@ -88,7 +84,8 @@ class PushPull {
  public:
   static constexpr std::uint32_t kSerialPatches = 512;
 
-  explicit PushPull(SolverState& s) : s_(s) {
+  PushPull(SolverState& s, PushMode mode)
+      : s_(s), shoot_(mode == PushMode::Shoot), carry_(s.ext && !s.ext->reflectsInGather()) {
     if (s.ext) indexElementLinks();
     // Each cluster's links, packed once (links are grouped by receiver); links that brought no light
     // are left out.
@@ -134,27 +131,57 @@ class PushPull {
   Rgb element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
     Rgb total = down + s_.Eg[e];
     const Element& el = s_.h.element(e);
-    s_.Et[e] = total;
+    // Shooting: the pass's irradiance adds to what arrived before.
+    s_.Et[e] = shoot_ ? s_.Et[e] + total : total;
     const std::size_t mark = samples ? samples->size() : 0;
-    if (samples)
+    if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
         if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
     Rgb result;
     if (el.leaf()) {
-      s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
+      if (shoot_) {
+        // What the pass brought is reflected once: it joins the radiosity and waits to be shot.
+        Rgb dB = s_.mat(e).diffuse * total;
+        s_.B[e] += dB;
+        s_.U[e] += dB;
+        s_.Umin[e] = s_.Umax[e] = static_cast<float>(luminance(s_.U[e]));
+      } else {
+        s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
+      }
       s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
-      if (samples) s_.ext->reflect(NodeId{e}, *samples);
+      if (samples && shoot_ && !samples->empty()) s_.ext->reflectShot(NodeId{e}, *samples);
+      if (samples && !shoot_) s_.ext->reflect(NodeId{e}, *samples);
       result = s_.B[e] * el.area;
     } else {
-      Rgb sum(0.0);
+      Rgb sum(0.0), unshot(0.0);
       float lo = std::numeric_limits<float>::max(), hi = 0.0f;
+      float ulo = std::numeric_limits<float>::max(), uhi = 0.0f;
+      Rgb part[4];
+      if (samples) {
+        // A simulated subtree: reflection costs far more than a task, so the four children run in
+        // parallel, each with its own copy of the samples so far (summed below in child order).
+        tbb::parallel_for(0, 4, [&](int k) {
+          s_.clkPushPull.sawThread();
+          std::vector<IncidentSample> mine(*samples);
+          part[k] = element(el.firstChild + std::uint32_t(k), total, &mine);
+        });
+      } else {
+        for (std::uint32_t k = 0; k < 4; ++k) part[k] = element(el.firstChild + k, total, nullptr);
+      }
       for (std::uint32_t k = 0; k < 4; ++k) {
-        sum += element(el.firstChild + k, total, samples);
-        lo = std::min(lo, s_.Bmin[el.firstChild + k]);
-        hi = std::max(hi, s_.Bmax[el.firstChild + k]);
+        const std::uint32_t c = el.firstChild + k;
+        sum += part[k];
+        lo = std::min(lo, s_.Bmin[c]);
+        hi = std::max(hi, s_.Bmax[c]);
+        if (shoot_) {
+          unshot += s_.U[c] * s_.h.element(c).area;
+          ulo = std::min(ulo, s_.Umin[c]);
+          uhi = std::max(uhi, s_.Umax[c]);
+        }
       }
       s_.B[e] = sum / el.area;
       s_.Bmin[e] = lo, s_.Bmax[e] = hi;
+      if (shoot_) s_.U[e] = unshot / el.area, s_.Umin[e] = ulo, s_.Umax[e] = uhi;
       if (samples) s_.ext->pull(NodeId{e}, s_.h.children(NodeId{e}));
       result = sum;
     }
@@ -214,14 +241,15 @@ class PushPull {
       const Vec3& n = s_.h.element(kid.index()).normal;
       if (s_.ext && s_.owned[kid.index()]) {
         std::vector<IncidentSample> samples;
-        chainSamples(here, n, samples);
+        if (carry_) chainSamples(here, n, samples);
         element(kid.index(), irradianceFrom(here, n), &samples);
       } else {
         element(kid.index(), irradianceFrom(here, n), nullptr);
       }
     };
-    // Tasks for large subtrees only: a task per small cluster cost more than its work.
-    if (cl.patchEnd - cl.patchBegin > kSerialPatches) {
+    // Tasks for large subtrees only (a task per small cluster cost more than its work), and for
+    // subtrees holding simulated surfaces (their reflection costs far more than a task).
+    if (cl.patchEnd - cl.patchBegin > kSerialPatches || (s_.ext && s_.clusterOwned[c])) {
       tbb::parallel_for(std::size_t(0), cl.children.size(), [&](std::size_t k) {
         s_.clkPushPull.sawThread();
         child(k);
@@ -285,15 +313,17 @@ class PushPull {
   }
 
   SolverState& s_;
+  const bool shoot_;  // add the pass's light (shooting) instead of replacing (gathering)
+  const bool carry_;  // carry samples down to simulated leaves (not for an extension that reflects in gather)
   std::vector<ClusterSamples> samples_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> elemRange_;  // element receivers' links
 };
 
 }  // namespace
 
-void pushPull(SolverState& s) {
+void pushPull(SolverState& s, PushMode mode) {
   PhaseTimer t(s.clkPushPull);
-  PushPull(s).run();
+  PushPull(s, mode).run();
 }
 
 }  // namespace hr::detail

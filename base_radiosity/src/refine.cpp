@@ -41,7 +41,7 @@ double extensionBoundRaw(const SolverState& s, const Link& l, bool wholeSphere =
   double d = glm::length(s.h.center(l.sender) - s.h.center(l.receiver));
   double sinHalf = d > 0.0 ? (s.h.radius(l.sender) + s.h.radius(l.receiver)) / d : 2.0;
   double cosHalf = wholeSphere || sinHalf >= 1.0 ? -1.0 : std::sqrt(1.0 - sinHalf * sinHalf);
-  return luminance(s.ext->intensityBound(l.sender, axis, cosHalf));
+  return luminance(s.extIntensityBound(l.sender, axis, cosHalf));
 }
 
 double extensionBound(const SolverState& s, const Link& l, bool wholeSphere) {
@@ -58,7 +58,7 @@ double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere)
   auto toward = [&](const Vec3& p) {
     Vec3 d = p - from;
     double len = glm::length(d);
-    return len > 0.0 ? luminance(s.ext->intensity(l.sender, d / len)) : 0.0;
+    return len > 0.0 ? luminance(s.extIntensity(l.sender, d / len)) : 0.0;
   };
   double lo = toward(s.h.center(l.receiver)), hi = lo;
   auto visit = [&](const Vec3& p) {
@@ -135,7 +135,7 @@ double powerError(const SolverState& s, const Link& l, bool wholeSphere, const S
     return catchingArea(s, l) * senderBound(s, l, wholeSphere, value) * l.bound * g * g;
   }
   if (s.h.element(l.sender.index()).leaf()) return 0.0;
-  return s.h.area(l.receiver) * l.bound * double(s.Bmax[l.sender.index()] - s.Bmin[l.sender.index()]);
+  return s.h.area(l.receiver) * l.bound * double(s.sentMax(l.sender.index()) - s.sentMin(l.sender.index()));
 }
 
 /// A coarse threshold places light coarsely but never loses or makes more than this fraction of the

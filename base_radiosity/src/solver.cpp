@@ -1,7 +1,7 @@
 // Diffuse hierarchical radiosity with clustering (in the manner of Smits et al. 1994 and Sillion
 // 1995). One iteration = refine links (refine.cpp) -> gather along links -> push/pull
-// (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the iteration
-// loop, convergence and the host's view for an extension.
+// (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the gathering
+// loop, convergence and the host's view for an extension; shooting passes are in shoot.cpp.
 #include <hr/solver.h>
 
 #include <algorithm>
@@ -128,11 +128,13 @@ struct Solver::Impl final : public HostView {
     // is below the tolerance: with acceleration (convergence.cpp) refinement, the costly part, runs
     // a few times instead of once per sweep. Converged when a pass splits nothing and its sweeps
     // reach the tolerance. With an extension attached every pass sweeps once (plain Jacobi).
+    // Shooting passes are in shoot.cpp.
     detail::Accelerator acc(s, s.opt.acceleration);
     const double target = s.opt.tolerance * s.emittedPower;
     int it = 0;
     int grew = 0;  // consecutive iterations whose residual grew
-    for (int pass = 1; it < s.opt.maxIterations; ++pass) {
+    if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, *this, *progress, st);
+    for (int pass = 1; s.opt.iteration == Iteration::Gather && it < s.opt.maxIterations; ++pass) {
       progress->phase("pass " + std::to_string(pass) + ": refine");
       std::size_t refined = detail::refineLinks(s);
       if (s.ext) s.ext->attach(*this);
@@ -151,6 +153,8 @@ struct Solver::Impl final : public HostView {
         is.links = s.links.size();
         is.elements = h.elements().size();
         is.refined = st.history.empty() || st.history.back().pass != pass ? refined : 0;
+        is.samples = s.samples.exchange(0);
+        st.peakSamples = std::max(st.peakSamples, is.samples);
         is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
         st.history.push_back(is);
         st.iterations = it;
@@ -178,7 +182,7 @@ struct Solver::Impl final : public HostView {
         break;
       }
     }
-    if (!st.converged && !st.diverged)
+    if (!st.converged && !st.diverged && s.opt.iteration == Iteration::Gather)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
     detail::AuditResult audit = detail::auditEnergy(s);

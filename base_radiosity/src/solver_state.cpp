@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 
 #include <hr/kernel.h>
 
@@ -39,12 +40,19 @@ void SolverState::growArrays() {
   owned.resize(n, 0);
   Bmin.resize(n);
   Bmax.resize(n);
+  const bool shoot = opt.iteration == Iteration::Shoot;
+  if (shoot) U.resize(n), Umin.resize(n), Umax.resize(n);
   for (std::size_t i = old; i < n; ++i) {
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
     Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
     owned[i] = e.parent == kNone ? 0 : owned[e.parent];
     Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
+    if (shoot) {
+      // A root's unshot light is its emission; a child's is its parent's (unshot radiosity per area).
+      U[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : U[e.parent];
+      Umin[i] = Umax[i] = static_cast<float>(luminance(U[i]));
+    }
   }
 }
 
@@ -52,16 +60,17 @@ Rgb SolverState::senderValue(const Link& l) const {
   const Vec3 toRecv = -Vec3(l.dir);
   Rgb v(0.0);
   if (l.sender.isCluster()) {
+    assert(!shooting && "shooters are patches: a cluster never sends unshot light");
     v = clusterIntensity(l.sender.index(), toRecv);
   } else {
     const Element& e = h.element(l.sender.index());
     double ws = l.wkid[0] + l.wkid[1] + l.wkid[2] + l.wkid[3];
     if (!e.leaf() && ws > 0.0) {
       // An inner sender sends the visibility-weighted mean of its children (docs/solver.md).
-      for (int k = 0; k < 4; ++k) v += double(l.wkid[k]) * B[e.firstChild + k];
+      for (int k = 0; k < 4; ++k) v += double(l.wkid[k]) * sent()[e.firstChild + k];
       v /= ws;
     } else {
-      v = B[l.sender.index()];
+      v = sent()[l.sender.index()];
     }
   }
   if (ext && isOwned(l.sender)) {
@@ -69,7 +78,7 @@ Rgb SolverState::senderValue(const Link& l) const {
     // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
     // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
     if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return v + extensionNearField(l);
-    Rgb I = l.receiver.isCluster() ? ext->intensity(l.sender, toRecv) : extensionOverReceiver(l);
+    Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
     if (l.sender.isCluster()) return v + I;
     const Element& e = h.element(l.sender.index());
     double c = glm::dot(e.normal, toRecv);
@@ -134,7 +143,7 @@ Rgb SolverState::extensionNearField(const Link& l) const {
     const double omega = polygonSolidAngle(dirs, re.poly.n);
     const double projected = kPi * pointPolygonFormFactor(from, se.normal, re.poly, re.normal);
     if (!(omega > 0.0) || !(projected > 0.0)) return Rgb(0.0);
-    const Rgb flux = ext->meanIntensity(n, std::span<const Vec3>(dirs, std::size_t(re.poly.n))) * omega;
+    const Rgb flux = extMeanIntensity(n, std::span<const Vec3>(dirs, std::size_t(re.poly.n))) * omega;
     return kPi * flux / (se.area * projected);
   };
   Rgb v(0.0);
@@ -155,10 +164,10 @@ Rgb SolverState::extensionOverReceiver(const Link& l) const {
     for (int k = 0; k < r.n; ++k) {
       Vec3 d = r.v[k] - from;
       double len = glm::length(d);
-      if (!(len > 0.0)) return ext->intensity(n, -Vec3(l.dir));
+      if (!(len > 0.0)) return extIntensity(n, -Vec3(l.dir));
       dirs[k] = d / len;
     }
-    return ext->meanIntensity(n, std::span<const Vec3>(dirs, std::size_t(r.n)));
+    return extMeanIntensity(n, std::span<const Vec3>(dirs, std::size_t(r.n)));
   };
   // An inner element sends as its four children, each from its own centre: the parent's pulled
   // distribution is a coarser sum, and a wide sender's parts see a near receiver from different
@@ -166,7 +175,7 @@ Rgb SolverState::extensionOverReceiver(const Link& l) const {
   // Only in the far field: the link turns the mean intensity into radiosity with the cosine of the
   // centre direction, which the polygon's mean does not match when the receiver fills a wide angle
   // (neighbouring faces of a glossy furnace lost 1 % more energy that way).
-  if (!farField(l)) return ext->intensity(l.sender, -Vec3(l.dir));
+  if (!farField(l)) return extIntensity(l.sender, -Vec3(l.dir));
   if (!l.sender.isCluster() && !h.element(l.sender.index()).leaf()) {
     Rgb sum(0.0);
     for (NodeId kid : h.children(l.sender)) sum += seenFrom(kid);

@@ -61,6 +61,10 @@ struct SolverState {
 
   std::vector<Rgb> B, Eg, Et;         // per element: radiosity, gathered and total irradiance
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
+  // Shooting only (empty when gathering): per element, unshot radiosity (W/m^2) and its leaves' range.
+  std::vector<Rgb> U;
+  std::vector<float> Umin, Umax;
+  bool shooting = false;  // a shooting pass is refining or transferring: senders send their unshot light
   std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
   std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
@@ -71,8 +75,25 @@ struct SolverState {
   double emittedPower = 0.0;             // luminance, W
   double minArea = 0.0;
   std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
+  std::atomic<std::uint64_t> samples{0};  // Illumination Samples handed to the gather hook (per iteration)
   PhaseClock clkVisibility, clkRefine, clkGather, clkPushPull, clkEnergy;
 
+  /// What element senders send: radiosity, or unshot radiosity during a shooting pass (W/m^2), and
+  /// the range of its leaves' values (luminance).
+  const std::vector<Rgb>& sent() const { return shooting ? U : B; }
+  float sentMin(std::uint32_t e) const { return shooting ? Umin[e] : Bmin[e]; }
+  float sentMax(std::uint32_t e) const { return shooting ? Umax[e] : Bmax[e]; }
+  /// The extension's light as senders send it: its total light, or its unshot light during a
+  /// shooting pass (W/sr; Extension::intensity, meanIntensity, intensityBound and their unshot kin).
+  Rgb extIntensity(NodeId n, const Vec3& dir) const {
+    return shooting ? ext->unshotIntensity(n, dir) : ext->intensity(n, dir);
+  }
+  Rgb extMeanIntensity(NodeId n, std::span<const Vec3> polygon) const {
+    return shooting ? ext->unshotMeanIntensity(n, polygon) : ext->meanIntensity(n, polygon);
+  }
+  Rgb extIntensityBound(NodeId n, const Vec3& axis, double cosHalfAngle) const {
+    return shooting ? ext->unshotIntensityBound(n, axis, cosHalfAngle) : ext->intensityBound(n, axis, cosHalfAngle);
+  }
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
   bool isOwned(NodeId n) const { return n.isCluster() ? clusterOwned[n.index()] != 0 : owned[n.index()] != 0; }
@@ -129,16 +150,25 @@ int evaluateLink(const SolverState& s, Link& l);
 /// (serial structural step), until no link changes; then groups links by receiver. Returns splits.
 std::size_t refineLinks(SolverState& s);
 
-/// Gathers every link's light to its receiver (parallel over receivers).
+/// Gathers every link's light to its receiver (parallel over receivers), then calls the extension's
+/// gather hook top-down (gather_hooks.cpp).
 void gatherLinks(SolverState& s);
+/// The extension's gather hook for every receiver holding simulated surfaces, top-down: parallel over
+/// disjoint subtrees, a receiver after those above it.
+void callGatherHooks(SolverState& s);
 /// Pushes irradiance down and pulls radiosity and cluster intensities up (parallel over subtrees).
-void pushPull(SolverState& s);
+/// Gathering replaces each leaf's radiosity; shooting adds the pass's light to radiosity and unshot.
+enum class PushMode { Gather, Shoot };
+void pushPull(SolverState& s, PushMode mode = PushMode::Gather);
 /// Cluster intensities from the current radiosity alone (before the first gather).
 void pullOnly(SolverState& s);
 
 /// Throws InputError naming the scene when it cannot absorb any of some emitted channel (no finite
 /// solution; absorption.cpp).
 void checkCanAbsorb(const SolverState& s);
+/// The shooting iterations (shoot.cpp): passes until the unshot power is below the tolerance or
+/// opt.maxIterations passes have run; fills st's history, iterations, converged and unshotW.
+void shootPasses(SolverState& s, const HostView& view, Progress& progress, SolveStats& st);
 
 struct AuditResult {
   Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};

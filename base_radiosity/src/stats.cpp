@@ -59,13 +59,21 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
     for (const auto& [name, value] : run.extension) ext[name] = std::isfinite(value) ? json(value) : json(nullptr);
     j["extension"] = ext;
   }
+  j["iteration_scheme"] = st.iteration == Iteration::Shoot ? "shoot" : "gather";
   j["iterations"] = st.iterations;
   j["converged"] = st.converged;
   j["diverged"] = st.diverged;
+  if (st.iteration == Iteration::Shoot) j["unshot_w"] = st.unshotW, j["shoot_fraction"] = st.shootFraction;
+  j["samples_peak_per_iteration"] = st.peakSamples;
+  // residual_w: gathering, the sweep's power change; shooting, the unshot power left after the pass.
   json hist = json::array();
-  for (const auto& h : st.history)
-    hist.push_back({{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
-                    {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"seconds", h.seconds}});
+  for (const auto& h : st.history) {
+    json e = {{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
+              {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"samples", h.samples},
+              {"seconds", h.seconds}};
+    if (st.iteration == Iteration::Shoot) e["shooters"] = h.shooters;
+    hist.push_back(e);
+  }
   j["history"] = hist;
   return j.dump(2) + "\n";
 }

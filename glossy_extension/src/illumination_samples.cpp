@@ -31,16 +31,22 @@ bool IlluminationSamples::simulates(const hr::MaterialInfo& m) const {
 void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {
   elements_.resize(elements);
   clusters_.resize(clusters);
+  unshotElements_.resize(elements);
+  unshotClusters_.resize(clusters);
+  dirtyElements_.resize(elements, 0);
+  dirtyClusters_.resize(clusters, 0);
   change_.resize(elements, Rgb(0.0));
 }
 
 void IlluminationSamples::attach(const hr::HostView& view) {
   view_ = &view;
   resize(view.elementCount(), view.clusterCount());
+  notePeak(held());
 }
 
-std::unique_ptr<IlluminationSamples::NodeLight>* IlluminationSamples::slot(hr::NodeId node) {
-  auto& table = node.isCluster() ? clusters_ : elements_;
+std::unique_ptr<IlluminationSamples::NodeLight>* IlluminationSamples::slot(Table& elements, Table& clusters,
+                                                                           hr::NodeId node) {
+  auto& table = node.isCluster() ? clusters : elements;
   return node.index() < table.size() ? &table[node.index()] : nullptr;
 }
 
@@ -51,6 +57,16 @@ bool IlluminationSamples::isLeaf(std::size_t i) const {
 const IlluminationSamples::NodeLight* IlluminationSamples::light(hr::NodeId node) const {
   const auto& table = node.isCluster() ? clusters_ : elements_;
   return node.index() < table.size() ? table[node.index()].get() : nullptr;
+}
+
+const IlluminationSamples::NodeLight* IlluminationSamples::unshotLight(hr::NodeId node) const {
+  const auto& table = node.isCluster() ? unshotClusters_ : unshotElements_;
+  return node.index() < table.size() ? table[node.index()].get() : nullptr;
+}
+
+void IlluminationSamples::touch(hr::NodeId node) {
+  auto& dirty = node.isCluster() ? dirtyClusters_ : dirtyElements_;
+  if (node.index() < dirty.size()) dirty[node.index()] = 1;
 }
 
 void IlluminationSamples::finish(NodeLight& l) const {
@@ -69,19 +85,22 @@ void IlluminationSamples::split(hr::NodeId parent, std::span<const hr::NodeId> c
   for (hr::NodeId c : children) need = std::max<std::size_t>(need, c.index() + 1);
   if (need > elements_.size()) resize(need, clusters_.size());
   change_[parent.index()] = Rgb(0.0);  // no longer a leaf: its light is its children's now
-  const NodeLight* p = elements_[parent.index()].get();
-  for (hr::NodeId c : children) {
-    if (c.isCluster()) continue;
-    change_[c.index()] = Rgb(0.0);
-    if (!p || !(p->area > 0.0)) continue;
-    // An exitant intensity scales with area: the child sends its share of the parent's light.
-    double ratio = view_->info(c).area / p->area;
-    if (!(ratio >= 0.0) || !std::isfinite(ratio)) continue;
-    auto l = std::make_unique<NodeLight>(*p);
-    std::visit([&](auto& d) { d.scale(ratio); }, l->dist);
-    l->area = p->area * ratio;
-    finish(*l);
-    elements_[c.index()] = std::move(l);
+  for (Table* table : {&elements_, &unshotElements_}) {
+    const NodeLight* p = (*table)[parent.index()].get();
+    for (hr::NodeId c : children) {
+      if (c.isCluster()) continue;
+      change_[c.index()] = Rgb(0.0);
+      touch(c);
+      if (!p || !(p->area > 0.0)) continue;
+      // An exitant intensity scales with area: the child sends its share of the parent's light.
+      double ratio = view_->info(c).area / p->area;
+      if (!(ratio >= 0.0) || !std::isfinite(ratio)) continue;
+      auto l = std::make_unique<NodeLight>(*p);
+      std::visit([&](auto& d) { d.scale(ratio); }, l->dist);
+      l->area = p->area * ratio;
+      finish(*l);
+      (*table)[c.index()] = std::move(l);
+    }
   }
 }
 
@@ -90,52 +109,80 @@ void IlluminationSamples::gather(hr::NodeId, std::span<const hr::IncidentSample>
   Counters::add(counters_->gatherCalls, 1);
 }
 
+std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(hr::NodeId leaf,
+                                                                             std::span<const hr::IncidentSample> samples) {
+  hr::NodeInfo info = view_->info(leaf);
+  if (info.material >= view_->materialCount() || !usableNormal(info.normal) || !(info.area > 0.0)) return nullptr;
+  hr::MaterialInfo m = view_->material(info.material);
+  auto l = std::make_unique<NodeLight>();
+  l->normal = info.normal;
+  l->area = info.area;
+  l->frame = basis_.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
+  ReflectCounts rc;
+  double n = representableExponent(basis_, m.exponent);
+  LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc);
+  std::unique_ptr<NodeLight> out;
+  if (simulates(m) && !lobes.samples.empty()) {
+    l->dist = projectLobes(lobes, basis_, rc);
+    finish(*l);
+    out = std::move(l);
+  }
+  Counters::add(counters_->samplesReceived, rc.received);
+  Counters::add(counters_->samplesKept, rc.kept);
+  Counters::add(counters_->samplesDropped, rc.dropped);
+  Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
+  return out;
+}
+
 void IlluminationSamples::reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) {
   std::uint64_t t0 = threadCpuNs();
   auto* s = slot(leaf);
   if (!s || leaf.isCluster() || !view_) return;
-  hr::NodeInfo info = view_->info(leaf);
   Rgb before = *s ? (*s)->power : Rgb(0.0);
-  if (info.material >= view_->materialCount() || !usableNormal(info.normal) || !(info.area > 0.0)) {
-    s->reset();
-  } else {
-    hr::MaterialInfo m = view_->material(info.material);
-    auto l = std::make_unique<NodeLight>();
-    l->normal = info.normal;
-    l->area = info.area;
-    l->frame = basis_.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
-    ReflectCounts rc;
-    double n = representableExponent(basis_, m.exponent);
-    LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc);
-    if (simulates(m) && !lobes.samples.empty()) {
-      l->dist = projectLobes(lobes, basis_, rc);
-      finish(*l);
-      *s = std::move(l);
-    } else {
-      s->reset();  // no light on the front of the surface: nothing to hold
-    }
-    Counters::add(counters_->samplesReceived, rc.received);
-    Counters::add(counters_->samplesKept, rc.kept);
-    Counters::add(counters_->samplesDropped, rc.dropped);
-    Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
-  }
+  *s = reflected(leaf, samples);  // null: no light on the front of the surface, nothing to hold
+  touch(leaf);
   change_[leaf.index()] = glm::abs((*s ? (*s)->power : Rgb(0.0)) - before);
   Counters::raise(counters_->samplesPeak, samples.size());
   Counters::add(counters_->reflectCalls, 1);
   Counters::add(counters_->reflectCpuNs, threadCpuNs() - t0);
 }
 
-void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> children) {
+void IlluminationSamples::reflectShot(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) {
   std::uint64_t t0 = threadCpuNs();
-  auto* s = slot(node);
-  if (!s || !view_) return;
-  std::vector<const NodeLight*> lit;
-  for (hr::NodeId c : children)
-    if (const NodeLight* l = light(c)) lit.push_back(l);
-  if (lit.empty()) {
-    s->reset();
-    return;
+  auto* s = slot(leaf);
+  auto* u = slot(unshotElements_, unshotClusters_, leaf);
+  if (!s || !u || leaf.isCluster() || !view_) return;
+  if (std::unique_ptr<NodeLight> add = reflected(leaf, samples)) {
+    // The pass's reflection joins the total and the unshot light; the samples are then dropped.
+    for (auto* target : {s, u}) {
+      if (!*target) {
+        *target = std::make_unique<NodeLight>(*add);
+        continue;
+      }
+      const NodeLight* parts[2] = {target->get(), add.get()};
+      *target = sum(leaf, parts);
+    }
+    touch(leaf);
   }
+  Counters::raise(counters_->samplesPeak, samples.size());
+  Counters::add(counters_->reflectCalls, 1);
+  Counters::add(counters_->reflectCpuNs, threadCpuNs() - t0);
+}
+
+void IlluminationSamples::shot(hr::NodeId node) {
+  auto* u = slot(unshotElements_, unshotClusters_, node);
+  if (!u || !view_) return;
+  u->reset();
+  touch(node);
+  for (hr::NodeId c : view_->children(node)) shot(c);
+}
+
+std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::sum(hr::NodeId node,
+                                                                       std::span<const NodeLight* const> parts) const {
+  std::vector<const NodeLight*> lit;
+  for (const NodeLight* p : parts)
+    if (p) lit.push_back(p);
+  if (lit.empty()) return nullptr;
   hr::NodeInfo info = view_->info(node);
   auto l = std::make_unique<NodeLight>();
   l->area = info.area;
@@ -162,7 +209,27 @@ void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> chil
     l->frame = Frame::world();
   }
   finish(*l);
-  *s = std::move(l);
+  return l;
+}
+
+void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> children) {
+  std::uint64_t t0 = threadCpuNs();
+  auto* s = slot(node);
+  auto* u = slot(unshotElements_, unshotClusters_, node);
+  if (!s || !u || !view_) return;
+  // A node whose children did not change since its last pull keeps its light (a shooting pass
+  // reaches few leaves); each child's mark is read by this, its only parent.
+  bool changed = false;
+  for (hr::NodeId c : children) {
+    auto& dirty = c.isCluster() ? dirtyClusters_ : dirtyElements_;
+    if (c.index() < dirty.size() && dirty[c.index()]) changed = true, dirty[c.index()] = 0;
+  }
+  if (!changed) return;
+  std::vector<const NodeLight*> total, unshot;
+  for (hr::NodeId c : children) total.push_back(light(c)), unshot.push_back(unshotLight(c));
+  *s = sum(node, total);
+  *u = sum(node, unshot);
+  touch(node);
   Counters::add(counters_->pullCalls, 1);
   Counters::add(counters_->pullCpuNs, threadCpuNs() - t0);
 }
@@ -172,6 +239,21 @@ double IlluminationSamples::powerChange() const {
   for (const Rgb& c : change_) sum += hr::luminance(c);
   return sum;
 }
+
+hr::Rgb IlluminationSamples::unshotPower(hr::NodeId node) const {
+  const NodeLight* l = unshotLight(node);
+  return l ? l->power : Rgb(0.0);
+}
+
+double IlluminationSamples::held() const {
+  double n = 0.0;
+  for (const Table* t : {&elements_, &clusters_, &unshotElements_, &unshotClusters_})
+    for (const auto& l : *t)
+      if (l) n += double(glossy::coefficients(l->dist));
+  return n;
+}
+
+void IlluminationSamples::notePeak(double now) { peakHeld_ = std::max(peakHeld_, now); }
 
 std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   double distributions = 0, leafDistributions = 0, coefficientsTotal = 0, coefficientsPeak = 0, bytesTotal = 0;
@@ -188,15 +270,21 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   };
   scan(elements_);
   scan(clusters_);
+  const double total = coefficientsTotal, totalDistributions = distributions;
+  scan(unshotElements_);
+  scan(unshotClusters_);
   for (std::size_t i = 0; i < elements_.size(); ++i)
     if (elements_[i] && isLeaf(i)) ++leafDistributions;
   bytesTotal += double(change_.capacity() * sizeof(Rgb));
   const Counters& c = *counters_;
   auto v = [](const std::atomic<std::uint64_t>& a) { return double(a.load(std::memory_order_relaxed)); };
   return {
-      {"distributions", distributions},
+      {"distributions", totalDistributions},
       {"distributions_at_leaves", leafDistributions},
-      {"coefficients_total", coefficientsTotal},
+      {"coefficients_total", total},
+      {"distributions_unshot", distributions - totalDistributions},
+      {"coefficients_unshot", coefficientsTotal - total},
+      {"coefficients_held_peak", std::max(peakHeld_, coefficientsTotal)},
       {"coefficients_peak_per_distribution", coefficientsPeak},
       {"bytes", bytesTotal},
       {"samples_received_total", v(c.samplesReceived)},

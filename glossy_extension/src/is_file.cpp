@@ -190,8 +190,10 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
   view_ = &view;
   elements_ = std::move(table);
   clusters_.clear();
-  clusters_.resize(view.clusterCount());
-  change_.assign(view.elementCount(), Rgb(0.0));
+  unshotElements_.clear();
+  unshotClusters_.clear();
+  change_.clear();
+  resize(view.elementCount(), view.clusterCount());
 }
 
 }  // namespace glossy

@@ -23,18 +23,8 @@ double resolutionAngle(const AnyDistribution& d) {
   return 0.0;
 }
 
-}  // namespace
-
-hr::Rgb IlluminationSamples::intensity(hr::NodeId node, const hr::Vec3& dir) const {
-  const NodeLight* l = light(node);
-  if (!l) return Rgb(0.0);
-  if (hasHorizon(*l) && !(glm::dot(l->normal, dir) > 0.0)) return Rgb(0.0);
-  // Spherical harmonics ring below zero around a lobe: none of that is sent.
-  return finiteOrZero(glm::max(Rgb(0.0), eval(l->dist, l->frame.toLocal(dir))));
-}
-
-hr::Rgb IlluminationSamples::intensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const {
-  const NodeLight* l = light(node);
+/// A bound of that intensity within acos(cosHalfAngle) of unit axis.
+Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double cosHalfAngle) {
   if (!l) return Rgb(0.0);
   Cap cone = Cap::cone(l->frame.toLocal(axis), cosHalfAngle);
   if (cone.whole()) return l->peak;
@@ -42,6 +32,30 @@ hr::Rgb IlluminationSamples::intensityBound(hr::NodeId node, const hr::Vec3& axi
   if (hasHorizon(*l) && cone.cosR >= 0.0 && glm::dot(l->normal, axis) <= -(cone.sinR + 1e-9) * glm::length(axis))
     return Rgb(0.0);
   return glm::max(Rgb(0.0), glm::min(l->peak, boundOver(l->dist, cone)));
+}
+
+}  // namespace
+
+/// A light's intensity toward unit dir, W/sr: nothing below a planar node's horizon, never negative
+/// (spherical harmonics ring below zero around a lobe: none of that is sent).
+hr::Rgb IlluminationSamples::intensityOf(const NodeLight* l, const hr::Vec3& dir) {
+  if (!l) return Rgb(0.0);
+  if (hasHorizon(*l) && !(glm::dot(l->normal, dir) > 0.0)) return Rgb(0.0);
+  return finiteOrZero(glm::max(Rgb(0.0), eval(l->dist, l->frame.toLocal(dir))));
+}
+
+hr::Rgb IlluminationSamples::intensity(hr::NodeId node, const hr::Vec3& dir) const { return intensityOf(light(node), dir); }
+
+hr::Rgb IlluminationSamples::intensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const {
+  return boundOf(light(node), axis, cosHalfAngle);
+}
+
+hr::Rgb IlluminationSamples::unshotIntensity(hr::NodeId node, const hr::Vec3& dir) const {
+  return intensityOf(unshotLight(node), dir);
+}
+
+hr::Rgb IlluminationSamples::unshotIntensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const {
+  return boundOf(unshotLight(node), axis, cosHalfAngle);
 }
 
 hr::Rgb IlluminationSamples::reflectedPower(hr::NodeId leaf) const {

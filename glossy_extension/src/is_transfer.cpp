@@ -96,7 +96,14 @@ Rgb haarIntegral(const HaarDistribution& h, std::uint32_t i, const FaceTri& t, i
 }  // namespace
 
 hr::Rgb IlluminationSamples::meanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const {
-  const NodeLight* l = light(node);
+  return meanIntensityOf(light(node), polygon);
+}
+
+hr::Rgb IlluminationSamples::unshotMeanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const {
+  return meanIntensityOf(unshotLight(node), polygon);
+}
+
+hr::Rgb IlluminationSamples::meanIntensityOf(const NodeLight* l, std::span<const hr::Vec3> polygon) {
   if (!l || polygon.size() < 3) return Rgb(0.0);
   Vec3 local[8];
   std::size_t n = std::min<std::size_t>(polygon.size(), 8);
@@ -106,7 +113,7 @@ hr::Rgb IlluminationSamples::meanIntensity(hr::NodeId node, std::span<const hr::
   if (!(area > 1e-14)) {
     Vec3 c(0.0);
     for (std::size_t k = 0; k < polygon.size(); ++k) c += polygon[k];
-    return glm::length(c) > 0.0 ? intensity(node, glm::normalize(c)) : Rgb(0.0);
+    return glm::length(c) > 0.0 ? intensityOf(l, glm::normalize(c)) : Rgb(0.0);
   }
   Rgb sum(0.0);
   if (const auto* h = std::get_if<HaarDistribution>(&l->dist)) {
@@ -135,7 +142,7 @@ hr::Rgb IlluminationSamples::meanIntensity(hr::NodeId node, std::span<const hr::
     Rgb part(0.0);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
-        part += intensity(node, sampleTriangle(glm::normalize(a), glm::normalize(b), glm::normalize(c), (i + 0.5) / 4, (j + 0.5) / 4));
+        part += intensityOf(l, sampleTriangle(glm::normalize(a), glm::normalize(b), glm::normalize(c), (i + 0.5) / 4, (j + 0.5) / 4));
     sum += part * (w / 16.0);
   }
   Rgb mean = sum / area;

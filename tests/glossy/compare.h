@@ -34,4 +34,11 @@ inline double relativeL1(const std::function<double(const glossy::Vec3&)>& got,
   return norm > 0.0 ? diff / norm : 0.0;
 }
 
+/// The largest relative difference over the three channels (powers, intensities).
+inline double relDiff(const glossy::Rgb& a, const glossy::Rgb& b) {
+  double w = 0.0;
+  for (int c = 0; c < 3; ++c) w = std::max(w, std::abs(a[c] - b[c]) / std::max(std::abs(b[c]), 1e-300));
+  return w;
+}
+
 }  // namespace testdirs

@@ -20,11 +20,7 @@ using glossy::Vec3;
 using glossy::kPi;
 using testhost::NodeId;
 
-double relDiff(const Rgb& a, const Rgb& b) {
-  double w = 0.0;
-  for (int c = 0; c < 3; ++c) w = std::max(w, std::abs(a[c] - b[c]) / std::max(std::abs(b[c]), 1e-300));
-  return w;
-}
+using testdirs::relDiff;
 
 /// Lights every glossy leaf of the scene with a few samples from random directions above it.
 void lightLeaves(const testhost::FakeHost& host, glossy::IlluminationSamples& ext, unsigned seed, int perLeaf = 3) {

@@ -44,6 +44,7 @@ inline constexpr Range kRaysPerLink{"rays_per_link", 1, 256};
 inline constexpr Range kMaxIterations{"max_iterations", 1, 100000};
 inline constexpr Range kTolerance{"tolerance", 1e-12, 1.0};
 inline constexpr Range kTessellation{"tessellation", 3, 1024};
+inline constexpr Range kShootFraction{"shoot_fraction", 1e-6, 1.0};
 inline constexpr Range kSeed{"seed", 0, 2147483647};
 // A fraction of the emitted power the energy audit may find unaccounted for (command line only).
 inline constexpr Range kMaxImbalance{"max_imbalance", 1e-6, 1.0};

@@ -12,6 +12,10 @@
 
 namespace hr {
 
+/// How light is propagated: Jacobi gathering over every link, or shooting passes from the nodes with
+/// the most unshot power (progressive; src/shoot.cpp).
+enum class Iteration { Gather, Shoot };
+
 struct SolverOptions {
   double eps = 2e-4;          // refine a link while its error estimate exceeds eps * emitted power
   int maxLevel = 6;           // quadtree depth below a root patch
@@ -28,6 +32,10 @@ struct SolverOptions {
   /// environment variable GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS is 1. Never for real runs.
   bool testOnlyUnblockedShadowRays = false;
   std::uint64_t seed = 1;
+  Iteration iteration = Iteration::Gather;
+  /// Shooting: a patch shoots in a pass when its unshot power is at least this fraction of the
+  /// largest patch's (1: one patch per pass, fewest samples held at once; smaller: fewer passes).
+  double shootFraction = 0.1;
   static SolverOptions from(const Settings& s);
 };
 
@@ -37,6 +45,8 @@ struct IterationStat {
   double residualW = 0.0;      // sum over leaves of area * |B_new - B_old| (luminance), W
   double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
   std::size_t links = 0, elements = 0, refined = 0;
+  std::size_t shooters = 0;    // shooting: patches that shot in this pass
+  std::size_t samples = 0;     // Illumination Samples handed to the extension's gather hook
   double seconds = 0.0;
 };
 
@@ -61,9 +71,13 @@ struct SolveStats {
   /// maxImbalance of the emitted power plus 3 standard errors of the audit's own estimate.
   Rgb allowedImbalanceW{0.0};
   bool energyOk = true;    // every channel's |imbalance| within allowedImbalanceW
-  int iterations = 0;
+  int iterations = 0;      // gathering sweeps or shooting passes
   bool converged = false;
   bool diverged = false;  // stopped: the residual kept growing beyond the emitted power (solver.cpp)
+  Iteration iteration = Iteration::Gather;
+  double unshotW = 0.0;         // shooting: unshot power left at the end (luminance), W
+  double shootFraction = 0.0;   // shooting: SolverOptions::shootFraction
+  std::size_t peakSamples = 0;  // the most Illumination Samples held in one iteration or pass
   std::vector<IterationStat> history;
 };
 

@@ -65,9 +65,13 @@ class Extension {
   /// An upper bound of that share within acos(cosHalfAngle) of unit axis: the oracle's sight of highlights.
   virtual Rgb intensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
 
-  // Link gather: concurrent across receivers (a receiver's descendants may be receivers too).
+  // Link gather: top-down, concurrent across disjoint subtrees; a receiver is always called after every
+  // receiver above it, so a gather may write the simulated leaves below its receiver.
   /// A receiver whose subtree holds simulated surfaces, with the samples its links brought this iteration.
   virtual void gather(NodeId /*receiver*/, std::span<const IncidentSample>) {}
+  /// True if gather() reflects the samples itself (immediate push, Radiance Clustering): the host then
+  /// carries no samples down and calls reflect() with none. Serial, once.
+  virtual bool reflectsInGather() const { return false; }
 
   // Reflection: during the host's push, concurrent across leaves.
   /// Every simulated leaf every iteration, with all its samples (its own and its ancestors', on its
@@ -75,10 +79,35 @@ class Extension {
   virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
 
   // Push/pull: children before parents, concurrent across disjoint subtrees.
-  /// An inner element or cluster above simulated leaves: its exitant light from its children's.
+  /// An inner element or cluster above simulated leaves: its exitant light (total, and unshot while
+  /// shooting) from its children's.
   virtual void pull(NodeId /*node*/, std::span<const NodeId> /*children*/) {}
   /// After the pull: how much the extension's exitant power changed this iteration, W (luminance).
   virtual double powerChange() const { return 0.0; }
+
+  // Shooting (the host's --iteration shoot, paper §3.4): the extension keeps unshot light beside its
+  // total light. A host asks canShoot() first and refuses to shoot with an extension that cannot.
+  /// Whether the hooks below are implemented. Serial, once.
+  virtual bool canShoot() const { return false; }
+  /// The unshot share of a node's exitant intensity toward unit dir, W/sr (what a shooter sends). Const,
+  /// concurrent (as intensity()).
+  virtual Rgb unshotIntensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }
+  /// Its mean over a convex spherical polygon of unit directions (as meanIntensity).
+  virtual Rgb unshotMeanIntensity(NodeId n, std::span<const Vec3> polygon) const {
+    Vec3 c(0.0);
+    for (const Vec3& d : polygon) c += d;
+    return glm::length(c) > 0.0 ? unshotIntensity(n, glm::normalize(c)) : Rgb(0.0);
+  }
+  /// An upper bound of that share within acos(cosHalfAngle) of unit axis (the oracle while shooting).
+  virtual Rgb unshotIntensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
+  /// A node's unshot power, W per channel: how shooters are chosen and when shooting stops. Const, concurrent.
+  virtual Rgb unshotPower(NodeId) const { return Rgb(0.0); }
+  /// During the host's push, concurrent across leaves: a simulated leaf's samples of this pass, reflected
+  /// and added to both its total and its unshot light (the samples are then dropped).
+  virtual void reflectShot(NodeId /*leaf*/, std::span<const IncidentSample>) {}
+  /// A shooter's unshot light has been sent: clear it in the node and its subtree. Concurrent across
+  /// disjoint subtrees, after the pass's gather and before its push.
+  virtual void shot(NodeId) {}
 
   // Energy audit: const, concurrent across leaves.
   /// Power a simulated leaf sends through the extension, W per channel; the rest of the light the

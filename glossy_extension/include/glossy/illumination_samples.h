@@ -7,9 +7,14 @@
 // - pull: inner elements and clusters hold the sum of their children's distributions (Haar trees
 //   re-projected with the same refiner so that sums do not grow into unions; power exact);
 // - sending, the oracle, the energy audit, display and the solution file read those distributions.
+// - shooting (§3.4): beside the total light every node keeps its unshot light; reflectShot adds a
+//   pass's reflection to both, shot() clears a shooter's unshot light, pull sums both, and a node
+//   whose children did not change since the last pull keeps what it has.
 // Planar nodes keep Haar distributions in their own frame (normal = +z), so the horizon is a cell
 // boundary; clusters keep theirs in the world frame. Per-node data live in side tables indexed by
-// NodeId; a hook writes only the node it was called for.
+// NodeId; a hook writes only the node it was called for (shot(): its subtree).
+// Radiance Clustering (radiance_clustering.h) derives from this class: it shares the exitant side
+// (distributions, pull, queries, file, statistics) and replaces only how incident light is reflected.
 #pragma once
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
@@ -21,7 +26,7 @@
 
 namespace glossy {
 
-class IlluminationSamples final : public hr::Extension {
+class IlluminationSamples : public hr::Extension {
  public:
   IlluminationSamples();
   ~IlluminationSamples() override;
@@ -41,6 +46,14 @@ class IlluminationSamples final : public hr::Extension {
   void reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override;
   void pull(hr::NodeId node, std::span<const hr::NodeId> children) override;
   double powerChange() const override;
+
+  bool canShoot() const override { return true; }
+  hr::Rgb unshotIntensity(hr::NodeId node, const hr::Vec3& dir) const override;
+  hr::Rgb unshotMeanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
+  hr::Rgb unshotIntensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const override;
+  hr::Rgb unshotPower(hr::NodeId node) const override;
+  void reflectShot(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override;
+  void shot(hr::NodeId node) override;
 
   hr::Rgb reflectedPower(hr::NodeId leaf) const override;
   hr::Rgb sampleExitant(hr::NodeId leaf, double u1, double u2, hr::Vec3& dir) const override;
@@ -65,20 +78,44 @@ class IlluminationSamples final : public hr::Extension {
   };
   /// The node's light, or nullptr when it has none (diffuse, dark, or not yet reflected/pulled).
   const NodeLight* light(hr::NodeId node) const;
+  /// The node's unshot light (shooting), or nullptr.
+  const NodeLight* unshotLight(hr::NodeId node) const;
 
- private:
-  std::unique_ptr<NodeLight>* slot(hr::NodeId node);
+ protected:
+  using Table = std::vector<std::unique_ptr<NodeLight>>;
+  std::unique_ptr<NodeLight>* slot(Table& elements, Table& clusters, hr::NodeId node);
+  std::unique_ptr<NodeLight>* slot(hr::NodeId node) { return slot(elements_, clusters_, node); }
+  /// A light's intensity toward unit dir and its mean over a spherical polygon, W/sr (what
+  /// intensity/meanIntensity and their unshot kin return; a null light sends nothing).
+  static hr::Rgb intensityOf(const NodeLight* l, const hr::Vec3& dir);
+  static hr::Rgb meanIntensityOf(const NodeLight* l, std::span<const hr::Vec3> polygon);
   /// Whether element i is a leaf of the attached view (display and the file need leaves only).
   bool isLeaf(std::size_t i) const;
   void finish(NodeLight& l) const;
-  void resize(std::size_t elements, std::size_t clusters);
+  /// Sizes every per-node table (they only grow).
+  virtual void resize(std::size_t elements, std::size_t clusters);
+  /// A leaf's reflection of some samples as a light of its own (frame, area, normal), or nullptr when
+  /// they bring no light to its front; counts what it did.
+  std::unique_ptr<NodeLight> reflected(hr::NodeId leaf, std::span<const hr::IncidentSample> samples);
+  /// The sum of lights as `node`'s light (its frame, or the world frame for a cluster whose parts
+  /// disagree), or nullptr when every part is null.
+  std::unique_ptr<NodeLight> sum(hr::NodeId node, std::span<const NodeLight* const> parts) const;
+  /// Marks a node's light changed since its parent's last pull.
+  void touch(hr::NodeId node);
+  /// Coefficients held in every distribution now (the statistics' peak is taken from this).
+  virtual double held() const;
+  /// Raises the peak of coefficients held to `now` (serial hooks only: attach; stats adds the end).
+  void notePeak(double now);
 
   struct Counters;
   BasisSpec basis_;
   const hr::HostView* view_ = nullptr;
-  std::vector<std::unique_ptr<NodeLight>> elements_, clusters_;
+  Table elements_, clusters_;
+  Table unshotElements_, unshotClusters_;     // shooting only
+  std::vector<std::uint8_t> dirtyElements_, dirtyClusters_;  // changed since the parent's last pull
   std::vector<Rgb> change_;  // per element, W: |power change| of the latest reflect (leaves)
   std::unique_ptr<Counters> counters_;
+  double peakHeld_ = 0.0;
 };
 
 }  // namespace glossy

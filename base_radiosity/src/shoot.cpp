@@ -1,0 +1,167 @@
+// Shooting iterations (--iteration shoot): progressive hierarchical radiosity in passes (paper §3.4;
+// Stamminger et al. 1998). Every element keeps unshot radiosity beside its radiosity, and an
+// extension keeps unshot light beside its total light. One pass:
+//  1. every root patch whose unshot power is at least opt.shootFraction of the largest shoots;
+//  2. each shooter's links (kept from its earlier passes, else one link to the root cluster) are
+//     refined by the usual oracle, which reads the shooters' unshot light (SolverState::shooting);
+//  3. the unshot light travels along them (gatherLinks; the gather hook sees this pass's samples);
+//  4. the shooters' unshot light is cleared (host and extension);
+//  5. what arrived is pushed down and pulled up (PushMode::Shoot): it joins radiosity and unshot.
+// All shooters of a pass send what they held at its start, so the pass is one parallel step; shooters
+// are taken in patch order and refinement is deterministic, so passes do not depend on the thread
+// count. Links are kept per shooter: a later pass from the same patch reuses them, refined for its
+// strongest shot (the first, as a rule). Refining afresh for each weaker shot instead (link-less)
+// lets every weak shot err by up to the threshold again: the glossy sphere's balance went from
+// 0.2 % to -1.9 %. Stops when the unshot power left is below tolerance x emitted (converged) or after
+// maxIterations passes (not converged; the power left is reported). The oracle, the energy audit
+// and the outputs are the gathering ones.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "solver_state.h"
+
+namespace hr::detail {
+namespace {
+
+/// A patch's unshot power, W (luminance): its host light plus the extension's.
+double unshotPower(const SolverState& s, std::uint32_t p) {
+  double w = luminance(s.U[p]) * s.h.patches()[p].area;
+  if (s.ext && s.owned[p]) w += luminance(s.ext->unshotPower(NodeId{p}));
+  return w;
+}
+
+/// Clears an element subtree's unshot radiosity.
+void clearUnshot(SolverState& s, std::uint32_t e) {
+  s.U[e] = Rgb(0.0);
+  s.Umin[e] = s.Umax[e] = 0.0f;
+  const Element& el = s.h.element(e);
+  if (!el.leaf())
+    for (std::uint32_t k = 0; k < 4; ++k) clearUnshot(s, el.firstChild + k);
+}
+
+double meanReflectance(const SolverState& s) {
+  double rho = 0.0, area = 0.0;
+  for (const Patch& p : s.h.patches()) rho += luminance(s.scene.materials[p.material].diffuse) * p.area, area += p.area;
+  return rho / std::max(area, 1e-300);
+}
+
+class Shooter {
+ public:
+  Shooter(SolverState& s, const HostView& view, Progress& progress, SolveStats& st)
+      : s_(s), view_(view), progress_(progress), st_(st), stored_(s.h.patches().size()), power_(s.h.patches().size()) {}
+
+  void run() {
+    const double rho = meanReflectance(s_), target = s_.opt.tolerance * s_.emittedPower;
+    double left = measure();
+    const double first = left;
+    for (int pass = 1; pass <= s_.opt.maxIterations && left > target; ++pass) {
+      auto t0 = std::chrono::steady_clock::now();
+      progress_.phase("pass " + std::to_string(pass) + ": shoot");
+      std::vector<std::uint32_t> shooters = choose();
+      std::size_t refined = shoot(shooters);
+      progress_.phase("pass " + std::to_string(pass) + ": push/pull");
+      pushPull(s_, PushMode::Shoot);
+      left = measure();
+      if (!std::isfinite(left)) throw std::runtime_error("non-finite unshot power after pass " + std::to_string(pass));
+      IterationStat is;
+      is.iteration = pass;
+      is.residualW = left;
+      is.unconvergedW = left * rho / std::max(1e-6, 1.0 - rho);
+      is.links = links_;
+      is.elements = s_.h.elements().size();
+      is.refined = refined;
+      is.shooters = shooters.size();
+      is.samples = s_.samples.exchange(0);
+      is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      st_.history.push_back(is);
+      st_.iterations = pass;
+      st_.peakSamples = std::max(st_.peakSamples, is.samples);
+      char buf[256];
+      std::snprintf(buf, sizeof buf,
+                    "pass %d: %zu shooter(s), unshot %.3e W (%.2e of emitted), links %zu, elements %zu, split %zu", pass,
+                    shooters.size(), left, left / std::max(s_.emittedPower, 1e-300), is.links, is.elements, refined);
+      progress_.note(buf);
+      if (first > target && left > 0.0)
+        progress_.update(std::clamp(std::log(first / left) / std::log(first / target), 0.0, 1.0));
+    }
+    st_.converged = left <= target;
+    st_.unshotW = left;
+    if (!st_.converged) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "NOT CONVERGED after %d passes: %.3e W unshot (%.2e of emitted; raise --max-iterations)",
+                    st_.iterations, left, left / std::max(s_.emittedPower, 1e-300));
+      progress_.note(buf);
+    }
+    // The links of every shooter, for the statistics (and nothing else: no more passes follow).
+    s_.links.clear();
+    s_.links.reserve(links_);
+    for (auto& v : stored_) s_.links.insert(s_.links.end(), v.begin(), v.end()), v = {};
+  }
+
+ private:
+  /// Every patch's unshot power; returns their sum, W (luminance).
+  double measure() {
+    tbb::parallel_for(std::size_t(0), power_.size(), [&](std::size_t p) { power_[p] = unshotPower(s_, std::uint32_t(p)); });
+    double sum = 0.0;  // in patch order: the same for any thread count
+    for (double w : power_) sum += w;
+    return sum;
+  }
+
+  /// The pass's shooters, in patch order. Smaller fractions shoot more patches per pass (toward a
+  /// Jacobi sweep over the unshot light: fewer passes, more samples held at once); 1 shoots the
+  /// strongest alone (docs/results.md has both on the glossy sphere).
+  std::vector<std::uint32_t> choose() const {
+    const double most = *std::max_element(power_.begin(), power_.end());
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t p = 0; p < power_.size(); ++p)
+      if (power_[p] > 0.0 && power_[p] >= s_.opt.shootFraction * most) out.push_back(p);
+    return out;
+  }
+
+  /// Refines the shooters' links, sends their unshot light along them and clears it; returns splits.
+  std::size_t shoot(const std::vector<std::uint32_t>& shooters) {
+    s_.links.clear();
+    for (std::uint32_t p : shooters) {
+      if (stored_[p].empty()) stored_[p].push_back(Link{NodeId{p}, s_.h.root()});
+      s_.links.insert(s_.links.end(), stored_[p].begin(), stored_[p].end());
+      links_ -= stored_[p].size();
+      stored_[p] = {};
+    }
+    s_.shooting = true;
+    std::size_t refined = refineLinks(s_);
+    if (s_.ext) s_.ext->attach(view_);
+    gatherLinks(s_);
+    s_.shooting = false;
+    tbb::parallel_for(std::size_t(0), shooters.size(), [&](std::size_t i) {
+      clearUnshot(s_, shooters[i]);
+      if (s_.ext && s_.owned[shooters[i]]) s_.ext->shot(NodeId{shooters[i]});
+    });
+    // Back to their shooters (the patch of the sending element), in the order refinement left them.
+    for (const Link& l : s_.links) stored_[s_.h.element(l.sender.index()).patch].push_back(l);
+    links_ += s_.links.size();
+    return refined;
+  }
+
+  SolverState& s_;
+  const HostView& view_;
+  Progress& progress_;
+  SolveStats& st_;
+  std::vector<std::vector<Link>> stored_;  // per patch: the links it shoots along
+  std::vector<double> power_;              // per patch: unshot power, W (luminance)
+  std::size_t links_ = 0;                  // links stored over all shooters
+};
+
+}  // namespace
+
+void shootPasses(SolverState& s, const HostView& view, Progress& progress, SolveStats& st) {
+  if (s.ext && !s.ext->canShoot())
+    throw InputError("--iteration shoot: --algorithm " + std::string(s.ext->name()) + " cannot shoot (it gathers only)");
+  st.iteration = Iteration::Shoot;
+  st.shootFraction = s.opt.shootFraction;
+  Shooter(s, view, progress, st).run();
+}
+
+}  // namespace hr::detail

@@ -1,0 +1,148 @@
+// Shooting (--iteration shoot) in the diffuse core: the same solution as gathering, the closed-form
+// furnace, energy conservation, an unshot power that falls with every pass, honest non-convergence at
+// albedo 0.99, and the same answer for any thread count.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cstring>
+
+#include "helpers.h"
+
+namespace {
+
+hr::SolverOptions shooting(hr::SolverOptions o) {
+  o.iteration = hr::Iteration::Shoot;
+  return o;
+}
+
+std::string furnace(double rho) {
+  const std::string r = std::to_string(rho);
+  return R"({ "materials": { "g": { "diffuse": [)" + r + "," + r + "," + r + R"(], "emission": [1,1,1] } },
+  "objects": [ { "type": "box", "material": "g", "min": [0,0,0], "max": [1,1,1], "facing": "inward" } ] })";
+}
+
+/// Largest relative difference, over objects and channels, of the element-area-weighted mean radiosity.
+double worstObjectDifference(const testutil::Solved& a, const testutil::Solved& b) {
+  double worst = 0.0;
+  for (std::uint32_t o = 0; o < a.scene.objects.size(); ++o) {
+    hr::Rgb ma = a.meanRadiosity(o), mb = b.meanRadiosity(o);
+    for (int c = 0; c < 3; ++c)
+      if (mb[c] > 0.0) worst = std::max(worst, std::abs(ma[c] / mb[c] - 1.0));
+  }
+  return worst;
+}
+
+// Both schemes converge to the same answer as the threshold falls, but not at the same rate:
+// shooters are patches, so shooting never sends through cluster senders (intensity tables, far-field
+// model) as gathering does, and each scheme's discretisation error is its own. Worst object and
+// channel, |shoot / gather - 1| (floor, green): 0.89 % at eps 2e-4, 0.34-0.63 % at 5e-5 (seeds 1,
+// 2), 0.10-0.21 % at 2e-5 (seeds 1-3); gathering's own seed-to-seed spread is 0.1 %. The bar
+// (0.5 %) is held where the schemes' difference is below it for every seed tried: eps 2e-5.
+TEST(Shooting, AgreesWithGatheringOnTheCornellBox) {
+  hr::SolverOptions o = testutil::options(2e-5, 7);
+  o.tolerance = 1e-5;
+  o.seed = 2;
+  auto g = testutil::solveText(hr::kDefaultSceneJson, o);
+  auto s = testutil::solveText(hr::kDefaultSceneJson, shooting(o));
+  ASSERT_TRUE(g.stats.converged);
+  ASSERT_TRUE(s.stats.converged);
+  double worst = worstObjectDifference(s, g);
+  std::printf("Cornell box, eps 2e-5: worst object mean shoot/gather - 1 = %.3g (%d passes, %d iterations)\n", worst,
+              s.stats.iterations, g.stats.iterations);
+  EXPECT_LT(worst, 0.005);
+  for (const auto* r : {&g, &s})
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR((r->stats.absorbedW[c] + r->stats.escapedW[c]) / r->stats.emittedW[c], 1.0, 0.01) << "channel " << c;
+}
+
+TEST(Shooting, AgreesWithGatheringAndTheClosedFormInTheFurnace) {
+  for (double rho : {0.5, 0.9}) {
+    hr::SolverOptions o = testutil::options(4e-4, 4);
+    o.maxIterations = 400;
+    o.tolerance = 1e-5;
+    auto g = testutil::solveText(furnace(rho), o);
+    auto s = testutil::solveText(furnace(rho), shooting(o));
+    ASSERT_TRUE(s.stats.converged) << "rho " << rho;
+    EXPECT_LT(worstObjectDifference(s, g), 0.005) << "rho " << rho;
+    const double expected = hr::kPi / (1.0 - rho);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < s.h->elements().size(); ++i)
+      if (s.h->element(static_cast<std::uint32_t>(i)).leaf())
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(s.solver->radiosity()[i][c] / expected - 1.0));
+    std::printf("furnace rho %.1f: worst leaf %.3g off pi Le/(1-rho), %d passes, absorbed/emitted - 1 = %.3g\n", rho,
+                worst, s.stats.iterations, s.stats.absorbedW.y / s.stats.emittedW.y - 1.0);
+    EXPECT_LT(worst, 0.01) << "every element within 1 % of pi Le / (1 - rho)";
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.stats.absorbedW[c] / s.stats.emittedW[c], 1.0, 0.01);
+  }
+}
+
+TEST(Shooting, OpenCornellBoxBalances) {
+  auto s = testutil::solveText(hr::kDefaultSceneJson, shooting(testutil::options(2e-4, 6)));
+  ASSERT_TRUE(s.stats.converged);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR((s.stats.absorbedW[c] + s.stats.escapedW[c]) / s.stats.emittedW[c], 1.0, 0.01) << "channel " << c;
+  EXPECT_EQ(s.stats.iteration, hr::Iteration::Shoot);
+  EXPECT_LE(s.stats.unshotW, 1e-4 * hr::luminance(s.stats.emittedW));
+}
+
+// A pass sends its shooters' unshot power P and adds back at most rho P, so with rho < 1 the unshot
+// power left must fall with every pass (links that created energy would show here).
+TEST(Shooting, UnshotPowerFallsWithEveryPass) {
+  auto s = testutil::solveText(hr::kDefaultSceneJson, shooting(testutil::options(2e-4, 6)));
+  ASSERT_GE(s.stats.history.size(), 3u);
+  for (std::size_t i = 1; i < s.stats.history.size(); ++i) {
+    EXPECT_LT(s.stats.history[i].residualW, s.stats.history[i - 1].residualW) << "pass " << i + 1;
+    EXPECT_GT(s.stats.history[i].shooters, 0u);
+  }
+  // The first pass shoots the light alone (nothing else has light yet).
+  EXPECT_EQ(s.stats.history[0].shooters, 1u);
+}
+
+// Albedo 0.99 in a closed box: about 900 sweeps would be needed for 1e-4. With 30 passes the solver
+// must stop, say it did not converge, and report the unshot power left.
+TEST(Shooting, HighAlbedoStopsAtTheIterationLimitAndSaysSo) {
+  hr::SolverOptions o = shooting(testutil::options(1e-3, 3));
+  o.maxIterations = 30;
+  auto s = testutil::solveText(furnace(0.99), o);
+  EXPECT_FALSE(s.stats.converged);
+  EXPECT_EQ(s.stats.iterations, 30);
+  EXPECT_GT(s.stats.unshotW, o.tolerance * hr::luminance(s.stats.emittedW));
+  EXPECT_EQ(s.stats.unshotW, s.stats.history.back().residualW);
+  std::string out;
+  int status = testutil::runCli("solve " + std::string(GHR_SOURCE_DIR) +
+                                    "/scenes/furnace_cube.json --iteration shoot --max-iterations 5 --quiet -o " +
+                                    testing::TempDir() + "/shoot_limit",
+                                out);
+  EXPECT_EQ(WEXITSTATUS(status), 3) << out;
+}
+
+TEST(Shooting, ProgressNamesTheUnshotPowerLeft) {
+  std::string out;
+  int status = testutil::runCli("solve " + std::string(GHR_SOURCE_DIR) +
+                                    "/scenes/furnace_cube.json --iteration shoot --max-iterations 3 -o " +
+                                    testing::TempDir() + "/shoot_progress",
+                                out);
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+  EXPECT_NE(out.find("pass 3:"), std::string::npos) << out;
+  EXPECT_NE(out.find("NOT CONVERGED after 3 passes"), std::string::npos) << out;
+  EXPECT_NE(out.find("unshot power left"), std::string::npos) << out;
+}
+
+TEST(Determinism, ShootingSameSeedSameAnswerForAnyThreadCount) {
+  auto run = [](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    hr::SolverOptions o = shooting(testutil::options(1e-3, 6));
+    o.seed = 7;
+    return testutil::solveText(hr::kDefaultSceneJson, o);
+  };
+  auto one = run(1), two = run(2);
+  const auto &a = one.solver->radiosity(), &b = two.solver->radiosity();
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(hr::Rgb)), 0) << "radiosity, bit for bit";
+  EXPECT_EQ(one.stats.links, two.stats.links);
+  EXPECT_EQ(one.stats.rays, two.stats.rays);
+  EXPECT_EQ(one.stats.iterations, two.stats.iterations);
+  EXPECT_EQ(one.stats.unshotW, two.stats.unshotW);
+}
+
+}  // namespace
