@@ -65,7 +65,7 @@ class Shooter {
       progress_.phase("pass " + std::to_string(pass) + ": push/pull");
       pushPull(s_, PushMode::Shoot);
       left = measure();
-      if (!std::isfinite(left)) throw std::runtime_error("non-finite unshot power after pass " + std::to_string(pass));
+      if (!std::isfinite(left)) throw std::runtime_error(nonFiniteWhere(s_, "shooting pass " + std::to_string(pass)));
       IterationStat is;
       is.iteration = pass;
       is.residualW = left;

@@ -159,7 +159,7 @@ struct Solver::Impl final : public HostView {
         st.history.push_back(is);
         st.iterations = it;
         report(st, is);
-        if (!std::isfinite(res)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
+        if (!std::isfinite(res)) throw std::runtime_error(detail::nonFiniteWhere(s, "iteration " + std::to_string(it)));
       } while (res > target && it < s.opt.maxIterations && acc.extrapolate());
       if (refined == 0 && res <= target) {
         st.converged = true;

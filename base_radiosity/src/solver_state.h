@@ -166,6 +166,9 @@ void pullOnly(SolverState& s);
 /// Throws InputError naming the scene when it cannot absorb any of some emitted channel (no finite
 /// solution; absorption.cpp).
 void checkCanAbsorb(const SolverState& s);
+/// The message for a non-finite residual after `when` ("iteration 3"): the first element whose
+/// host or extension light is not finite, named by object and material (nonfinite.cpp).
+std::string nonFiniteWhere(const SolverState& s, const std::string& when);
 /// The shooting iterations (shoot.cpp): passes until the unshot power is below the tolerance or
 /// opt.maxIterations passes have run; fills st's history, iterations, converged and unshotW.
 void shootPasses(SolverState& s, const HostView& view, Progress& progress, SolveStats& st);
