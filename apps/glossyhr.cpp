@@ -41,7 +41,7 @@ struct SolveArgs {
   std::optional<double> eps, tolerance, shootFraction;
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
-  std::optional<double> maxImbalance;
+  std::optional<double> maxImbalance, memoryMb;
   bool quiet = false, lambertian = false;
   ExtensionOptions extension;
 };
@@ -70,6 +70,11 @@ int runSolve(const SolveArgs& a) {
     throw hr::InputError("--iteration " + iteration + ": the " + host.name + " host iterates by " + host.iterations +
                          " only");
   checkFlag("--max-imbalance", a.maxImbalance, L::kMaxImbalance);
+  checkFlag("--memory-mb", a.memoryMb, L::kMemoryMb);
+  if (a.memoryMb && iteration != "gather")
+    throw hr::InputError("--memory-mb: steers the refinement of gathering only (--iteration gather" +
+                         std::string(host.iterates("gather") ? "" : ", which the " + std::string(host.name) + " host has not") +
+                         ")");
   checkFlag("--shoot-fraction", a.shootFraction, L::kShootFraction);
   if (a.shootFraction && iteration != "shoot") throw hr::InputError("--shoot-fraction: only with --iteration shoot");
   hr::Progress progress(a.quiet);
@@ -94,6 +99,7 @@ int runSolve(const SolveArgs& a) {
   if (a.tolerance) opt.tolerance = *a.tolerance;
   if (a.seed) opt.seed = static_cast<std::uint64_t>(*a.seed);
   if (a.maxImbalance) opt.maxImbalance = *a.maxImbalance;
+  if (a.memoryMb) opt.memoryBudgetBytes = static_cast<std::size_t>(*a.memoryMb * 1048576.0);
   opt.iteration = iteration == "shoot" ? hr::Iteration::Shoot : hr::Iteration::Gather;
   if (a.shootFraction) opt.shootFraction = *a.shootFraction;
   if (ext && opt.iteration == hr::Iteration::Shoot && !ext->canShoot())
@@ -168,7 +174,17 @@ int runSolve(const SolveArgs& a) {
     std::fprintf(stderr, "error: the solve is DIVERGING (energy is being created): stopped after iteration %d, "
                          "residual %.3g x the emitted power; its outputs are not a solution\n",
                  st.iterations, st.history.back().residualW / std::max(hr::luminance(st.emittedW), 1e-300));
-  return st.converged && st.energyOk ? 0 : 3;
+  // A budget the run could not keep is said loudly too (the outputs are an answer, but not the one
+  // asked for): beyond 10 % over it, exit 3.
+  const double overBudget = st.memoryBudgetBytes ? double(hr::peakRssBytes()) / double(st.memoryBudgetBytes) : 0.0;
+  if (overBudget > 1.1)
+    std::fprintf(stderr, "error: MEMORY BUDGET NOT KEPT: peak resident memory %.1f MB is %.0f %% of --memory-mb %.1f%s\n",
+                 double(hr::peakRssBytes()) / 1048576.0, 100.0 * overBudget, double(st.memoryBudgetBytes) / 1048576.0,
+                 st.memoryBudgetExceeded ? " (the coarsest pass alone needs more)" : "");
+  else if (st.memoryBudgetBytes && !a.quiet)
+    std::fprintf(stderr, "  memory budget: peak %.1f MB of %.1f MB; refined down to eps %.3g\n",
+                 double(hr::peakRssBytes()) / 1048576.0, double(st.memoryBudgetBytes) / 1048576.0, st.epsReached);
+  return st.converged && st.energyOk && overBudget <= 1.1 ? 0 : 3;
 }
 
 struct RenderArgs {
@@ -255,6 +271,9 @@ int main(int argc, char** argv) {
   solve->add_option("--max-imbalance", sa.maxImbalance,
                     "exit 3 when the energy audit finds more than this fraction of the emitted power unaccounted "
                     "for (plus its noise); default 0.02");
+  solve->add_option("--memory-mb", sa.memoryMb,
+                    "peak resident memory budget, MB (gathering): refinement starts at eps 1e-2 and comes down "
+                    "toward --eps pass by pass as far as the budget allows; exit 3 if the peak exceeds it by 10 %");
   solve->add_option("--algorithm", sa.algorithm, "extension from the table (diffuse)")->capture_default_str();
   solve->add_flag("--lambertian", sa.lambertian,
                   "replace each glossy material by a Lambertian one of the same normal-incidence albedo (rho_d + rho_s)");

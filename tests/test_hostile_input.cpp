@@ -171,6 +171,10 @@ std::vector<Case> cases() {
       {"shoot_fraction_when_gathering", "solve --shoot-fraction 0.5 -o {out}"},
       {"iteration_shoot_with_rc", "solve --iteration shoot --algorithm rc -o {out}"},
       {"iteration_gather_on_vision", "solve --iteration gather --host vision -o {out}"},
+      {"memory_mb_tiny", "solve --memory-mb 1 -o {out}"},
+      {"memory_mb_nan", "solve --memory-mb nan -o {out}"},
+      {"memory_mb_when_shooting", "solve --memory-mb 500 --iteration shoot -o {out}"},
+      {"memory_mb_on_vision", "solve --memory-mb 500 --host vision -o {out}"},
   };
   for (const auto& [name, args] : flags) {
     std::size_t at = args.find("--");

@@ -3,6 +3,7 @@
 // (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the gathering
 // loop, convergence and the host's view for an extension; shooting passes are in shoot.cpp.
 #include <hr/solver.h>
+#include <hr/output.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "convergence.h"
+#include "memory_budget.h"
 #include "solver_state.h"
 
 namespace hr {
@@ -134,9 +136,13 @@ struct Solver::Impl final : public HostView {
     int it = 0;
     int grew = 0;  // consecutive iterations whose residual grew
     if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, *this, *progress, st);
+    detail::MemoryBudget budget(s.opt.memoryBudgetBytes, s.opt.eps);
+    budget.start(peakRssBytes());
     for (int pass = 1; s.opt.iteration == Iteration::Gather && it < s.opt.maxIterations; ++pass) {
       progress->phase("pass " + std::to_string(pass) + ": refine");
-      std::size_t refined = detail::refineLinks(s);
+      s.opt.eps = budget.eps();
+      std::size_t refined = 0;
+      if (!budget.frozen()) refined = detail::refineLinks(s);
       if (s.ext) s.ext->attach(*this);
       acc.restart();
       double res = 0.0;
@@ -161,7 +167,16 @@ struct Solver::Impl final : public HostView {
         report(st, is);
         if (!std::isfinite(res)) throw std::runtime_error(detail::nonFiniteWhere(s, "iteration " + std::to_string(it)));
       } while (res > target && it < s.opt.maxIterations && acc.extrapolate());
-      if (refined == 0 && res <= target) {
+      const bool finest = budget.frozen() || budget.atRequested();
+      if (budget.active()) {
+        budget.afterPass(peakRssBytes(), currentRssBytes(), freeHeapBytes(), h.elements().size());
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "memory budget: pass %d refined at eps %.3g, peak %.1f MB of %.1f MB%s", pass,
+                      s.opt.eps, double(peakRssBytes()) / 1048576.0, double(s.opt.memoryBudgetBytes) / 1048576.0,
+                      budget.frozen() ? "; refinement stops here" : "");
+        progress->note(buf);
+      }
+      if (refined == 0 && res <= target && finest) {
         st.converged = true;
         break;
       }
@@ -182,6 +197,11 @@ struct Solver::Impl final : public HostView {
         break;
       }
     }
+    st.memoryBudgetBytes = s.opt.memoryBudgetBytes;
+    st.epsReached = s.opt.eps;
+    st.memoryBudgetExceeded = budget.exceeded();
+    if (budget.exceeded())
+      progress->note("MEMORY BUDGET EXCEEDED: the coarsest pass alone needs more than the budget allows");
     if (!st.converged && !st.diverged && s.opt.iteration == Iteration::Gather)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");

@@ -3,22 +3,32 @@
 #include <hr/solver.h>
 #include <nlohmann/json.hpp>
 
+#include <malloc.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 
 namespace hr {
 
-std::size_t peakRssBytes() {
+namespace {
+/// A "Vm...:" line of /proc/self/status, bytes.
+std::size_t procStatusBytes(const char* key) {
   std::FILE* f = std::fopen("/proc/self/status", "r");
   if (!f) return 0;
   char line[256];
   std::size_t kb = 0;
+  const std::size_t n = std::strlen(key);
   while (std::fgets(line, sizeof line, f))
-    if (std::strncmp(line, "VmHWM:", 6) == 0) kb = std::strtoull(line + 6, nullptr, 10);
+    if (std::strncmp(line, key, n) == 0) kb = std::strtoull(line + n, nullptr, 10);
   std::fclose(f);
   return kb * 1024;
 }
+}  // namespace
+
+std::size_t peakRssBytes() { return procStatusBytes("VmHWM:"); }
+std::size_t currentRssBytes() { return procStatusBytes("VmRSS:"); }
+std::size_t freeHeapBytes() { return mallinfo2().fordblks; }
 
 std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRss) {
   using nlohmann::json;
@@ -63,6 +73,10 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   j["iterations"] = st.iterations;
   j["converged"] = st.converged;
   j["diverged"] = st.diverged;
+  if (st.memoryBudgetBytes > 0)
+    j["memory_budget"] = {{"bytes", st.memoryBudgetBytes}, {"eps_reached", st.epsReached},
+                          {"coarsest_pass_exceeded", st.memoryBudgetExceeded},
+                          {"peak_rss_over_budget", double(peakRss) / double(st.memoryBudgetBytes)}};
   if (st.iteration == Iteration::Shoot) j["unshot_w"] = st.unshotW, j["shoot_fraction"] = st.shootFraction;
   j["samples_peak_per_iteration"] = st.peakSamples;
   // residual_w: gathering, the sweep's power change; shooting, the unshot power left after the pass.

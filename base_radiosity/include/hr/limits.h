@@ -48,6 +48,7 @@ inline constexpr Range kShootFraction{"shoot_fraction", 1e-6, 1.0};
 inline constexpr Range kSeed{"seed", 0, 2147483647};
 // A fraction of the emitted power the energy audit may find unaccounted for (command line only).
 inline constexpr Range kMaxImbalance{"max_imbalance", 1e-6, 1.0};
+inline constexpr Range kMemoryMb{"memory_mb", 16.0, 1e7};
 inline constexpr Range kThreads{"threads", 1, 1024};
 inline constexpr Range kSpp{"spp", 1, 1 << 20};
 inline constexpr Range kTimeS{"time_s", 1e-3, 1e6};

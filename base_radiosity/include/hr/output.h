@@ -56,5 +56,9 @@ struct RunInfo {
 };
 std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRssBytes);
 std::size_t peakRssBytes();
+/// The resident memory in use now (VmRSS), bytes; 0 where /proc is not available.
+std::size_t currentRssBytes();
+/// Heap the allocator holds free for reuse (glibc mallinfo2), bytes.
+std::size_t freeHeapBytes();
 
 }  // namespace hr

@@ -36,6 +36,9 @@ struct SolverOptions {
   /// Shooting: a patch shoots in a pass when its unshot power is at least this fraction of the
   /// largest patch's (1: one patch per pass, fewest samples held at once; smaller: fewer passes).
   double shootFraction = 0.1;
+  /// Gathering: a peak resident memory budget (bytes; 0 none). Refinement starts at a coarse
+  /// threshold and comes down toward eps pass by pass as far as the budget allows (memory_budget.h).
+  std::size_t memoryBudgetBytes = 0;
   static SolverOptions from(const Settings& s);
 };
 
@@ -78,6 +81,9 @@ struct SolveStats {
   double unshotW = 0.0;         // shooting: unshot power left at the end (luminance), W
   double shootFraction = 0.0;   // shooting: SolverOptions::shootFraction
   std::size_t peakSamples = 0;  // the most Illumination Samples held in one iteration or pass
+  std::size_t memoryBudgetBytes = 0;  // SolverOptions::memoryBudgetBytes
+  double epsReached = 0.0;            // the finest threshold refinement used (eps without a budget)
+  bool memoryBudgetExceeded = false;  // the coarsest pass alone did not fit in the budget
   std::vector<IterationStat> history;
 };
 
