@@ -5,11 +5,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <numeric>
 
-#include "counting_sort.h"
-#include "link_arrays.h"
+#include "solver_state.h"
 
 namespace hr::detail {
 namespace {
@@ -220,46 +218,24 @@ void subdivideNamed(SolverState& s, const std::vector<Link>& links, const std::v
     if (s.owned[e]) s.ext->split(NodeId{e}, s.h.children(NodeId{e}));
 }
 
-/// Links per block of the decisions' bookkeeping. The blocks are fixed, not one per thread: each
-/// block's first kept link and first child link are known before any is written.
-constexpr std::size_t kBlock = 2048;
-
-/// Replaces `links` by the children of the split ones; appends the kept ones to `kept`. The old
-/// array of `links` is left in `spare` for the next round. Returns the links split.
+/// Replaces `links` by the children of the split ones; appends the kept ones to `kept`.
 std::size_t applyDecisions(SolverState& s, std::vector<Link>& links, const std::vector<Action>& act,
-                           std::vector<Link>& kept, std::vector<Link>& spare) {
+                           std::vector<Link>& kept) {
   subdivideNamed(s, links, act);
-  const std::size_t blocks = (links.size() + kBlock - 1) / kBlock;
-  // Per block: kept links, child links and splits; then each block's first positions.
-  std::vector<std::size_t> keepAt(blocks + 1, 0), childAt(blocks + 1, 0), splitsIn(blocks, 0);
-  auto range = [&](std::size_t b) { return std::pair(b * kBlock, std::min(links.size(), (b + 1) * kBlock)); };
-  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-    auto [lo, hi] = range(b);
-    for (std::size_t i = lo; i != hi; ++i) {
-      std::size_t c = childCount(s, links[i], act[i]);
-      childAt[b + 1] += c;
-      splitsIn[b] += c > 0 ? 1 : 0;
-      keepAt[b + 1] += act[i] == Action::Keep ? 1 : 0;
-    }
+  std::vector<std::size_t> offset(links.size() + 1, 0);
+  std::size_t splits = 0;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    offset[i + 1] = offset[i] + childCount(s, links[i], act[i]);
+    splits += offset[i + 1] > offset[i] ? 1 : 0;
+    if (act[i] == Action::Keep) kept.push_back(links[i]);
+  }
+  std::vector<Link> next(offset.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      if (offset[i + 1] > offset[i]) writeChildren(s, links[i], act[i], next.data() + offset[i]);
   });
-  std::partial_sum(keepAt.begin(), keepAt.end(), keepAt.begin());
-  std::partial_sum(childAt.begin(), childAt.end(), childAt.begin());
-  const std::size_t keptBefore = kept.size();
-  growLinks(kept, keptBefore + keepAt[blocks]);
-  spare.clear();
-  growLinks(spare, childAt[blocks]);
-  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-    auto [lo, hi] = range(b);
-    Link* keep = kept.data() + keptBefore + keepAt[b];
-    Link* child = spare.data() + childAt[b];
-    for (std::size_t i = lo; i != hi; ++i) {
-      if (act[i] == Action::Keep) *keep++ = links[i];
-      writeChildren(s, links[i], act[i], child);
-      child += childCount(s, links[i], act[i]);
-    }
-  });
-  links.swap(spare);
-  return std::accumulate(splitsIn.begin(), splitsIn.end(), std::size_t(0));
+  links = std::move(next);
+  return splits;
 }
 
 /// The receiver pass. The per-link oracle bounds each link's error alone, but a receiver near an
@@ -272,24 +248,23 @@ std::size_t applyDecisions(SolverState& s, std::vector<Link>& links, const std::
 /// since kept[from] are examined (all of them on the first pass of an iteration: senders changed).
 /// Returns the receivers split.
 std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t from, std::vector<Link>& out,
-                         std::vector<Link>& spare, double threshold) {
+                         double threshold) {
   const std::size_t E = s.h.elements().size();
   std::vector<std::uint8_t> check(E, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(from, kept.size(), 4096), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      NodeId n = kept[i].receiver;
-      // Several links may mark one receiver: every store writes the same 1.
-      if (!n.isCluster() && canSplit(s, n)) std::atomic_ref(check[n.index()]).store(1, std::memory_order_relaxed);
-    }
-  });
-  // The links of the receivers to check, grouped by receiver in link order.
-  std::vector<std::uint32_t> idx(kept.size());
-  auto key = [&](std::size_t i) {
-    NodeId n = kept[i].receiver;
-    return !n.isCluster() && check[n.index()] ? std::size_t(n.index()) : E;
-  };
-  const std::vector<std::uint32_t> start =
-      countingSort(kept.size(), E, key, [&](std::size_t i, std::uint32_t p) { idx[p] = std::uint32_t(i); });
+  for (std::size_t i = from; i < kept.size(); ++i) {
+    NodeId r = kept[i].receiver;
+    if (!r.isCluster() && canSplit(s, r)) check[r.index()] = 1;
+  }
+  // The links of the receivers to check, grouped by receiver (stable: deterministic).
+  std::vector<std::uint32_t> idx;
+  for (std::uint32_t i = 0; i < kept.size(); ++i)
+    if (!kept[i].receiver.isCluster() && check[kept[i].receiver.index()]) idx.push_back(i);
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return kept[a].receiver.value < kept[b].receiver.value; });
+  std::vector<std::uint32_t> start;
+  for (std::uint32_t i = 0; i < idx.size(); ++i)
+    if (i == 0 || !(kept[idx[i]].receiver == kept[idx[i - 1]].receiver)) start.push_back(i);
+  start.push_back(static_cast<std::uint32_t>(idx.size()));
   const std::size_t groups = start.size() - 1;
   std::vector<std::uint8_t> splitIt(groups, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 16), [&](const auto& r) {
@@ -316,22 +291,20 @@ std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t fr
     for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) act[idx[i]] = Action::SplitReceiver;
   }
   if (count == 0) return 0;
-  // The links that stay go to `out` (empty here), the split receivers' children to `kept`; then
-  // the two swap.
-  out.clear();
-  applyDecisions(s, kept, act, out, spare);
+  std::vector<Link> stay;
+  stay.reserve(kept.size());
+  applyDecisions(s, kept, act, stay);
   out.swap(kept);
+  kept.swap(stay);
   return count;
 }
 
 }  // namespace
 
 std::size_t refineLinks(SolverState& s) {
-  // Three arrays take turns: the links still to decide, the kept ones, and the spare array the
-  // next round's links are written into.
-  std::vector<Link> pending = std::move(s.links), kept, spare;
+  std::vector<Link> pending = std::move(s.links), kept;
   s.links.clear();
-  reserveLinks(kept, pending.size() + pending.size() / 4);
+  kept.reserve(pending.size() + pending.size() / 4);
   std::size_t splitCount = 0, checkedFrom = 0;
   const double threshold = s.opt.eps * s.emittedPower;
   while (!pending.empty()) {
@@ -352,15 +325,15 @@ std::size_t refineLinks(SolverState& s) {
       s.clkRefine.sawThread();
       for (std::size_t i = r.begin(); i != r.end(); ++i) act[i] = decide(s, pending[i], threshold);
     });
-    splitCount += applyDecisions(s, pending, act, kept, spare);
+    splitCount += applyDecisions(s, pending, act, kept);
     if (pending.empty()) {
-      splitCount += receiverPass(s, kept, checkedFrom, pending, spare, threshold);
+      splitCount += receiverPass(s, kept, checkedFrom, pending, threshold);
       checkedFrom = kept.size();  // receivers checked now need no second look unless they gain links
     }
   }
   PhaseTimer t(s.clkRefine);
   s.links = std::move(kept);
-  groupByReceiver(s.h, s.links, s.groupStart, spare);
+  s.groupByReceiver(s.links, s.groupStart);
   return splitCount;
 }
 

@@ -1,5 +1,5 @@
 // Helpers every solver phase shares: array growth after subdivision, a sender's light toward a
-// receiver, points on nodes, and the phase clocks.
+// receiver, grouping links by receiver, points on nodes, and the phase clocks.
 #include <tbb/task_arena.h>
 #include <time.h>
 
@@ -203,6 +203,23 @@ Rgb SolverState::clusterIntensity(std::uint32_t c, const Vec3& dir) const {
     if (cs > 0.0) I += B[p] * (h.patches()[p].area * cs / kPi);
   }
   return I;
+}
+
+void SolverState::groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const {
+  // Stable counting sort on a dense key (elements first, then clusters): O(links + nodes), where a
+  // comparison sort of 90-byte links was a tenth of the solve.
+  const std::size_t E = h.elements().size(), C = h.clusters().size();
+  auto key = [&](NodeId n) { return n.isCluster() ? E + n.index() : std::size_t(n.index()); };
+  std::vector<std::uint32_t> count(E + C + 1, 0);
+  for (const Link& l : v) ++count[key(l.receiver) + 1];
+  for (std::size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
+  std::vector<Link> out(v.size());
+  for (const Link& l : v) out[count[key(l.receiver)]++] = l;
+  v = std::move(out);
+  start.clear();
+  for (std::uint32_t i = 0; i < v.size(); ++i)
+    if (i == 0 || !(v[i].receiver == v[i - 1].receiver)) start.push_back(i);
+  start.push_back(static_cast<std::uint32_t>(v.size()));
 }
 
 /// A point on a node's surface (not lifted: see liftPair in transfer.cpp). Shadow-ray ends are

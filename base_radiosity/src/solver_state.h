@@ -121,6 +121,8 @@ struct SolverState {
   /// An element sender's extension share toward a near element receiver, in the link's radiosity
   /// unit: the flux its distribution sends into the receiver's solid angle, no more.
   Rgb extensionNearField(const Link& l) const;
+  /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
+  void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.
   Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal, std::uint32_t* patch = nullptr) const;
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }
