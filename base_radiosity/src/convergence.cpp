@@ -8,12 +8,18 @@
 // transposed operator (gathering with clusters and visibility is not symmetric), and a few leaf
 // vectors of memory. Channels are independent linear systems and are mixed separately.
 //
-// Everything here runs serially in leaf order: the dot products and therefore the iterates are the
-// same bits whatever the thread count.
+// Every sum here (dot products, residuals, the power of inner nodes) runs serially in a fixed order,
+// so the iterates are the same bits whatever the thread count; only the work per leaf or per node
+// that writes its own entry runs in parallel (serially it made a sixth of what stayed serial in a
+// two-thread solve of the Soda Shoppe).
 #include "convergence.h"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+
+#include "counting_sort.h"
 
 namespace hr::detail {
 
@@ -21,6 +27,14 @@ namespace {
 
 /// Luminance of the per-channel magnitudes: a residual that colours cannot cancel.
 double absLuminance(const Rgb& c) { return luminance(glm::abs(c)); }
+
+/// f(i) for i in [0, n), in parallel: f writes entry i of its arrays and nothing else.
+template <class F>
+void forEach(std::size_t n, F f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
 
 /// Least squares min |f - sum_j gamma_j a_j| over the columns a_j (weighted already), by modified
 /// Gram-Schmidt QR with one re-orthogonalisation, newest column first; a column whose remainder is
@@ -48,11 +62,11 @@ std::vector<double> leastSquares(const std::vector<std::vector<double>>& a, cons
       for (std::size_t t = 0; t < q.size(); ++t) {
         double c = dotv(q[t], v);
         coef[t] += c;
-        for (std::size_t i = 0; i < n; ++i) v[i] -= c * q[t][i];
+        forEach(n, [&](std::size_t i) { v[i] -= c * q[t][i]; });
       }
     const double norm = std::sqrt(dotv(v, v));
     if (!(norm > 1e-10 * norm0)) continue;
-    for (double& x : v) x /= norm;
+    forEach(n, [&](std::size_t i) { v[i] /= norm; });
     coef[q.size()] = norm;
     q.push_back(std::move(v));
     r.push_back(std::move(coef));
@@ -78,7 +92,7 @@ Accelerator::Accelerator(SolverState& s, int depth) : s_(s), depth_(s.ext ? 0 : 
 void Accelerator::restart() {
   collectLeaves();
   std::vector<Rgb> now(leaves_.size());
-  for (std::size_t k = 0; k < leaves_.size(); ++k) now[k] = s_.Et[leaves_[k]];
+  forEach(leaves_.size(), [&](std::size_t k) { now[k] = s_.Et[leaves_[k]]; });
   nodePower(now, Pref_);
   slack_ = std::min(s_.opt.eps, kPowerSlack) * s_.emittedPower;
   havePrev_ = false;
@@ -94,14 +108,17 @@ void Accelerator::collectLeaves() {
   for (std::uint32_t i = 0; i < els.size(); ++i)
     if (els[i].leaf()) leaves_.push_back(i);
   w_.resize(leaves_.size());
-  for (std::size_t k = 0; k < leaves_.size(); ++k) {
+  forEach(leaves_.size(), [&](std::size_t k) {
     const Rgb& rho = s_.mat(leaves_[k]).diffuse;
     w_[k] = els[leaves_[k]].area * rho * rho;
-  }
+  });
   clusterLinks_.clear();
   if (!enabled()) return;
-  for (std::uint32_t i = 0; i < s_.links.size(); ++i)
-    if (s_.links[i].receiver.isCluster()) clusterLinks_.push_back(i);
+  // A stable sort with one key, the rest left out: the cluster receivers' links in link order.
+  clusterLinks_.resize(s_.links.size());
+  auto key = [&](std::size_t i) { return s_.links[i].receiver.isCluster() ? std::size_t(0) : std::size_t(1); };
+  auto place = [&](std::size_t i, std::uint32_t p) { clusterLinks_[p] = std::uint32_t(i); };
+  clusterLinks_.resize(countingSort(s_.links.size(), 1, key, place).back());
 }
 
 double Accelerator::sweep() {
@@ -109,15 +126,17 @@ double Accelerator::sweep() {
   const std::size_t n = leaves_.size();
   x_.resize(n);
   g_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) x_[k] = s_.Et[leaves_[k]];
+  forEach(n, [&](std::size_t k) { x_[k] = s_.Et[leaves_[k]]; });
   gatherLinks(s_);
   pushPull(s_);
-  double res = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
+  std::vector<double> change(n);
+  forEach(n, [&](std::size_t k) {
     g_[k] = s_.Et[leaves_[k]];
     const std::uint32_t e = leaves_[k];
-    res += s_.h.element(e).area * absLuminance(s_.mat(e).diffuse * (g_[k] - x_[k]));
-  }
+    change[k] = s_.h.element(e).area * absLuminance(s_.mat(e).diffuse * (g_[k] - x_[k]));
+  });
+  double res = 0.0;
+  for (double c : change) res += c;
   if (s_.ext) res += s_.ext->powerChange();  // the extension's light converges too
   last_ = res;
   return res;
@@ -127,10 +146,10 @@ void Accelerator::nodePower(const std::vector<Rgb>& x, std::vector<double>& P) c
   const auto& els = s_.h.elements();
   const std::size_t E = els.size();
   P.assign(E + s_.h.clusters().size(), 0.0);
-  for (std::size_t k = 0; k < leaves_.size(); ++k) {
+  forEach(leaves_.size(), [&](std::size_t k) {
     const std::uint32_t e = leaves_[k];
     P[e] = els[e].area * luminance(s_.emitted(e) + s_.mat(e).diffuse * x[k]);
-  }
+  });
   // Children come after their parents (Hierarchy::subdivide appends): a reverse sweep sums them up.
   for (std::size_t e = E; e-- > 0;)
     if (els[e].parent != kNone) P[els[e].parent] += P[e];
@@ -138,10 +157,10 @@ void Accelerator::nodePower(const std::vector<Rgb>& x, std::vector<double>& P) c
   const auto& order = s_.h.patchOrder();
   std::vector<double> prefix(order.size() + 1, 0.0);
   for (std::size_t i = 0; i < order.size(); ++i) prefix[i + 1] = prefix[i] + P[order[i]];
-  for (std::size_t c = 0; c < s_.h.clusters().size(); ++c) {
+  forEach(s_.h.clusters().size(), [&](std::size_t c) {
     const Cluster& cl = s_.h.cluster(static_cast<std::uint32_t>(c));
     P[E + c] = prefix[cl.patchEnd] - prefix[cl.patchBegin];
-  }
+  });
 }
 
 double Accelerator::allowedStep(const std::vector<double>& Pg, const std::vector<double>& Px) const {
@@ -178,7 +197,7 @@ bool Accelerator::extrapolate() {
   if (t < 1.0) {
     // Only part of the way: the links must be refined for the brighter light first (header).
     // One more sweep checks the step, and the pass ends on its plain result.
-    for (std::size_t k = 0; k < x_.size(); ++k) x_[k] = g_[k] + t * (x_[k] - g_[k]);
+    forEach(x_.size(), [&](std::size_t k) { x_[k] = g_[k] + t * (x_[k] - g_[k]); });
     capped_ = true;
   }
   setLeafIrradiance(x_);
@@ -188,14 +207,14 @@ bool Accelerator::extrapolate() {
 void Accelerator::mix(std::vector<Rgb>& x, const std::vector<Rgb>& g) {
   const std::size_t n = x.size();
   std::vector<Rgb> f(n);
-  for (std::size_t k = 0; k < n; ++k) f[k] = g[k] - x[k];
+  forEach(n, [&](std::size_t k) { f[k] = g[k] - x[k]; });
   if (havePrev_) {
     if (static_cast<int>(dF_.size()) == depth_) {
       dF_.erase(dF_.begin());
       dG_.erase(dG_.begin());
     }
     std::vector<Rgb> df(n), dg(n);
-    for (std::size_t k = 0; k < n; ++k) df[k] = f[k] - fPrev_[k], dg[k] = g[k] - gPrev_[k];
+    forEach(n, [&](std::size_t k) { df[k] = f[k] - fPrev_[k], dg[k] = g[k] - gPrev_[k]; });
     dF_.push_back(std::move(df));
     dG_.push_back(std::move(dg));
   }
@@ -207,19 +226,21 @@ void Accelerator::mix(std::vector<Rgb>& x, const std::vector<Rgb>& g) {
   std::vector<std::vector<double>> a(m, std::vector<double>(n));
   std::vector<double> fw(n);
   for (int c = 0; c < 3 && m > 0; ++c) {
-    for (std::size_t k = 0; k < n; ++k) {
+    forEach(n, [&](std::size_t k) {
       const double sw = std::sqrt(w_[k][c]);
       fw[k] = sw * f[k][c];
       for (std::size_t j = 0; j < m; ++j) a[j][k] = sw * dF_[j][k][c];
-    }
+    });
     std::vector<double> gamma = leastSquares(a, fw);
-    for (std::size_t j = 0; j < m; ++j)
-      if (gamma[j] != 0.0)
-        for (std::size_t k = 0; k < n; ++k) x[k][c] -= gamma[j] * dG_[j][k][c];
+    // Each entry takes the columns in the same order as before: the same bits.
+    forEach(n, [&](std::size_t k) {
+      for (std::size_t j = 0; j < m; ++j)
+        if (gamma[j] != 0.0) x[k][c] -= gamma[j] * dG_[j][k][c];
+    });
   }
   // The solution is non-negative and the sweep is monotone, so clipping an extrapolated
   // undershoot at zero only moves the iterate toward it; radiosity then never goes negative.
-  for (Rgb& v : x) v = glm::max(v, Rgb(0.0));
+  forEach(n, [&](std::size_t k) { x[k] = glm::max(x[k], Rgb(0.0)); });
 }
 
 void Accelerator::setLeafIrradiance(const std::vector<Rgb>& x) {
@@ -228,8 +249,8 @@ void Accelerator::setLeafIrradiance(const std::vector<Rgb>& x) {
   // tables up. With no light on inner nodes or clusters and x as the leaves' own, it is the
   // consistent pull of x. (The next sweep's gather overwrites both arrays.)
   std::fill(s_.Eg.begin(), s_.Eg.end(), Rgb(0.0));
-  for (std::size_t k = 0; k < leaves_.size(); ++k) s_.Eg[leaves_[k]] = x[k];
-  for (std::uint32_t i : clusterLinks_) s_.links[i].E = glm::vec3(0.0f);
+  forEach(leaves_.size(), [&](std::size_t k) { s_.Eg[leaves_[k]] = x[k]; });
+  forEach(clusterLinks_.size(), [&](std::size_t i) { s_.links[clusterLinks_[i]].E = glm::vec3(0.0f); });
   pushPull(s_);
 }
 
