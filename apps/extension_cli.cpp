@@ -2,6 +2,7 @@
 #include "extension_cli.h"
 
 #include "registry.h"
+#include "vision/display_cells.h"
 
 void ExtensionOptions::addTo(CLI::App* command) {
   // An option several extensions take (Radiance Clustering shares Illumination Samples' bases) is
@@ -45,6 +46,8 @@ std::unique_ptr<hr::Extension> loadExtension(const hr::Solution& s, const hr::Ho
   if (!entry || !entry->make)
     throw hr::InputError(file + ": made with extension \"" + s.extension.name + "\", which this build does not have");
   auto ext = entry->make();
+  // The VISION-like host's solutions address the extension's data by display cell (adapters/vision).
+  if (s.host == "vision") ext = adapters::vision::adapt(std::move(ext));
   if (ext->formatVersion() != s.extension.version)
     throw hr::InputError(file + ": extension \"" + s.extension.name + "\" data version " +
                          std::to_string(s.extension.version) + " is not supported (expected " +

@@ -103,7 +103,10 @@ int runSolve(const SolveArgs& a) {
   opt.iteration = iteration == "shoot" ? hr::Iteration::Shoot : hr::Iteration::Gather;
   if (a.shootFraction) opt.shootFraction = *a.shootFraction;
   if (ext && opt.iteration == hr::Iteration::Shoot && !ext->canShoot())
-    throw hr::InputError("--iteration shoot: --algorithm " + a.algorithm + " gathers only (use --iteration gather)");
+    throw hr::InputError(host.iterates("gather")
+                             ? "--iteration shoot: --algorithm " + a.algorithm + " gathers only (use --iteration gather)"
+                             : "--algorithm " + a.algorithm + " gathers only, and --host " + host.name + " shoots only (use --host " +
+                                   hostTable().front().name + " --iteration gather, or --algorithm is)");
   int threads = a.threads ? *a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
 

@@ -11,7 +11,7 @@ const std::vector<HostEntry>& hostTable() {
       {"bright", "BRIGHT-like: everything tessellated at load, quadtree elements, stored links, gathering",
        "diffuse, is, rc", "gather, shoot", solveBright},
       {"vision", "VISION-like: primitives kept whole, parameter-space elements, bounded radiosity, link-less shooting",
-       "diffuse", "shoot", solveVision},
+       "diffuse, is", "shoot", solveVision},
   };
   return table;
 }

@@ -1,11 +1,25 @@
-// `--host vision`: the VISION-like host in vision_host. It has no glossy adapter yet, so a scene
-// that needs an extension is refused (exit 2) rather than solved without its glossy light.
+// `--host vision`: the VISION-like host in vision_host, with the extension (if any) through its
+// hooks and adapters/vision for the display cells of its solution.
 #include <hr/camera.h>
 #include <vision/solver.h>
 
+#include "vision/display_cells.h"
+
 #include <cstdio>
+#include <memory>
 
 #include "host_front.h"
+
+namespace {
+
+/// What the extension's views point into, alive as long as the result is.
+struct VisionRun {
+  std::unique_ptr<vision::Hierarchy> hier;
+  std::unique_ptr<vision::CurvedVisibility> vis;
+  std::unique_ptr<vision::Solver> solver;
+};
+
+}  // namespace
 
 HostResult solveVision(HostJob& job) {
   job.progress.phase("building surfaces");
@@ -15,20 +29,21 @@ HostResult solveVision(HostJob& job) {
   if (rep.nonPlanarQuads) std::fprintf(stderr, "warning: split %zu non-planar quad(s) into triangles\n", rep.nonPlanarQuads);
   if (rep.split) std::fprintf(stderr, "note: %zu extra surface(s) from polygons not star-shaped about their centroid\n", rep.split);
   dropUnneededExtension(job);
-  if (job.ext)
-    throw hr::InputError("--algorithm " + job.algorithm +
-                         " with --host vision: the VISION-like host has no glossy adapter yet (adapters/vision); "
-                         "use --host bright for glossy scenes");
-  vision::Hierarchy hier(std::move(surfaces));
-  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(hier.bounds()));
+  if (job.ext) job.ext = adapters::vision::adapt(std::move(job.ext));
+  auto run = std::make_shared<VisionRun>();
+  run->hier = std::make_unique<vision::Hierarchy>(std::move(surfaces));
+  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(run->hier->bounds()));
   job.ready();
   job.progress.phase("building visibility");
-  vision::CurvedVisibility vis(hier.surfaces());
-  vision::Solver solver(job.scene, hier, vis, job.opt, &job.progress);
+  run->vis = std::make_unique<vision::CurvedVisibility>(run->hier->surfaces());
+  run->solver = std::make_unique<vision::Solver>(job.scene, *run->hier, *run->vis, job.opt, job.ext.get(), &job.progress);
   HostResult r;
-  r.st = solver.solve();
+  r.st = run->solver->solve();
   r.st.iteration = hr::Iteration::Shoot;  // link-less shooting is the VISION-like host's only scheme
   job.progress.phase("writing outputs");
-  r.sol = vision::makeSolution(job.scene, hier, vision::Display::Flat);
+  std::vector<std::uint32_t> cellLeaf;
+  r.sol = vision::makeSolution(job.scene, *run->hier, vision::Display::Flat, &cellLeaf);
+  if (job.ext) adapters::vision::showCells(*job.ext, run->solver->view(), r.sol, cellLeaf);
+  r.keep = run;
   return r;
 }

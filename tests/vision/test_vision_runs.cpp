@@ -91,11 +91,4 @@ TEST(VisionCli, UnknownHostExits2ListingTheValidOnes) {
   EXPECT_NE(out.find("valid: bright, vision"), std::string::npos) << out;
 }
 
-TEST(VisionCli, GlossySceneOnTheVisionHostIsRefused) {
-  std::string out;
-  int rc = testutil::runCli("solve " + std::string(GHR_SOURCE_DIR) + "/scenes/glossy_cornell.json --host vision --algorithm is --quiet -o " + (testutil::testDir() / "out").string(), out);
-  EXPECT_EQ(WEXITSTATUS(rc), 2) << out;
-  EXPECT_NE(out.find("no glossy adapter yet"), std::string::npos) << out;
-}
-
 }  // namespace

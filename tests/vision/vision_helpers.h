@@ -14,6 +14,7 @@ struct Solved {
   hr::Scene scene;
   std::unique_ptr<vision::Hierarchy> h;
   std::unique_ptr<vision::CurvedVisibility> vis;
+  std::unique_ptr<vision::Solver> solver;  // an extension's view of the nodes lives in it
   hr::SolveStats stats;
 
   /// Every leaf of every surface, surfaces in order, each tree depth first.
@@ -35,18 +36,20 @@ struct Solved {
   }
 };
 
-inline Solved solve(hr::Scene scene, const hr::SolverOptions& opt) {
+inline Solved solve(hr::Scene scene, const hr::SolverOptions& opt, hr::Extension* ext = nullptr) {
   Solved s;
   s.scene = std::move(scene);
   vision::SurfaceReport rep;
   s.h = std::make_unique<vision::Hierarchy>(vision::buildSurfaces(s.scene, rep));
   s.vis = std::make_unique<vision::CurvedVisibility>(s.h->surfaces());
-  vision::Solver solver(s.scene, *s.h, *s.vis, opt);
-  s.stats = solver.solve();
+  s.solver = std::make_unique<vision::Solver>(s.scene, *s.h, *s.vis, opt, ext);
+  s.stats = s.solver->solve();
   return s;
 }
 
-inline Solved solveText(const std::string& json, const hr::SolverOptions& opt) { return solve(hr::parseScene(json, ""), opt); }
+inline Solved solveText(const std::string& json, const hr::SolverOptions& opt, hr::Extension* ext = nullptr) {
+  return solve(hr::parseScene(json, ""), opt, ext);
+}
 
 /// A material block of grey materials: "e" emits L_e = 1 and reflects rho_e, "r" reflects rho_r.
 inline std::string greyMaterials(double rhoE, double rhoR) {

@@ -84,6 +84,7 @@ KernelBounds kernelBounds(const Geometry& s, const Geometry& r) {
   cosineBounds(r.coneAxis, r.coneAngle, -axis, beta, rLo, rHi);
   kb.kmax = sHi * rHi / rmin2;
   kb.kmin = sLo * rLo / rmax2;
+  kb.axis = axis, kb.beta = beta, kb.rLo = rLo, kb.rHi = rHi, kb.rmin2 = rmin2, kb.rmax2 = rmax2;
   return kb;
 }
 

@@ -32,7 +32,7 @@ void cellBreaks(const Surface& s, const Rect& r, std::vector<double>& us, std::v
 
 class Exporter {
  public:
-  Exporter(hr::Solution& sol, const Hierarchy& h) : sol_(sol), h_(h) {}
+  Exporter(hr::Solution& sol, const Hierarchy& h, std::vector<std::uint32_t>* cellLeaf) : sol_(sol), h_(h), cellLeaf_(cellLeaf) {}
 
   void leaf(const Element& e) {
     const Surface& s = h_.surfaces()[e.surface];
@@ -40,14 +40,14 @@ class Exporter {
     for (std::size_t j = 0; j + 1 < vs_.size(); ++j)
       for (std::size_t i = 0; i + 1 < us_.size(); ++i) {
         Vec3 c[4] = {s.point(us_[i], vs_[j]), s.point(us_[i + 1], vs_[j]), s.point(us_[i + 1], vs_[j + 1]), s.point(us_[i], vs_[j + 1])};
-        add(c, s.normal(0.5 * (us_[i] + us_[i + 1]), 0.5 * (vs_[j] + vs_[j + 1])), s, e.B);
+        add(c, s.normal(0.5 * (us_[i] + us_[i + 1]), 0.5 * (vs_[j] + vs_[j + 1])), s, e.B, e.id);
       }
   }
 
  private:
   /// One cell as a convex polygon counter-clockwise about the surface's front (collapsed corners
   /// dropped: a pole or a disk's centre makes a triangle).
-  void add(const Vec3 (&c)[4], const Vec3& front, const Surface& s, const Rgb& B) {
+  void add(const Vec3 (&c)[4], const Vec3& front, const Surface& s, const Rgb& B, std::uint32_t leaf) {
     hr::Polygon p;
     p.n = 0;
     for (const Vec3& v : c) {
@@ -72,23 +72,26 @@ class Exporter {
     const std::uint32_t id = static_cast<std::uint32_t>(sol_.patches.size());
     sol_.patches.push_back(pt);
     sol_.elements.push_back({p, id, hr::kNone, 0, B});
+    if (cellLeaf_) cellLeaf_->push_back(leaf);
   }
 
   hr::Solution& sol_;
   const Hierarchy& h_;
+  std::vector<std::uint32_t>* cellLeaf_;
   std::vector<double> us_, vs_;
 };
 
 }  // namespace
 
-hr::Solution makeSolution(const hr::Scene& scene, const Hierarchy& h, Display display) {
+hr::Solution makeSolution(const hr::Scene& scene, const Hierarchy& h, Display display, std::vector<std::uint32_t>* cellLeaf) {
   hr::Solution sol;
   sol.sceneName = scene.name;
   sol.host = "vision";
   sol.materials = scene.materials;
   sol.cameras = scene.cameras;
   sol.objectCount = static_cast<std::uint32_t>(scene.objects.size());
-  Exporter x(sol, h);
+  if (cellLeaf) cellLeaf->clear();
+  Exporter x(sol, h, cellLeaf);
   for (const Element& r : h.roots())
     forEachElement(r, [&](const Element& e) {
       if (e.leaf()) x.leaf(e);

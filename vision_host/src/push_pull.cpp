@@ -2,6 +2,9 @@
 // shot's unshot light (rho_d E) and joins the radiosity; power and radiosity are pulled back up.
 // A cluster's samples (E_perp toward a sender) reach a flat surface with one cosine for all of it and
 // a curved leaf with its cosine averaged over 3 x 3 points. Parallel over cluster subtrees.
+// With an extension, the same traversal carries the samples (direction and irradiance on the surface)
+// down the surfaces it simulates: each leaf's samples of this shot are handed to reflectShot, and
+// inner elements and clusters above them are pulled after their children.
 #include <tbb/parallel_for.h>
 
 #include <cmath>
@@ -28,7 +31,20 @@ Rgb onPlane(const Chain* c, const Vec3& n) {
   return E;
 }
 
-/// The same averaged over a curved leaf.
+/// The cosine max(0, n.w) averaged over a leaf (one normal for a flat one, 3 x 3 points on a curved).
+double meanCosine(const Surface& sf, const Rect& r, const Vec3& w) {
+  if (sf.planar()) return std::max(0.0, glm::dot(sf.normal(0.5, 0.5), w));
+  double c = 0.0, a = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double u = r.u0 + kNode[i] * r.du(), v = r.v0 + kNode[j] * r.dv();
+      double wq = kW[i] * kW[j] * sf.jacobian(u, v);
+      c += wq * std::max(0.0, glm::dot(sf.normal(u, v), w)), a += wq;
+    }
+  return a > 0.0 ? c / a : 0.0;
+}
+
+/// The same irradiance averaged over a curved leaf.
 Rgb onLeaf(const Chain* c, const Surface& sf, const Rect& r) {
   Rgb E(0.0);
   double a = 0.0;
@@ -41,6 +57,14 @@ Rgb onLeaf(const Chain* c, const Surface& sf, const Rect& r) {
   return a > 0.0 ? E / a : Rgb(0.0);
 }
 
+/// The chain's samples as the extension's samples on a leaf (or on a whole flat surface).
+void chainSamples(const Chain* c, const Surface& sf, const Rect& r, std::vector<hr::IncidentSample>& out) {
+  for (; c; c = c->up)
+    if (c->here)
+      for (const ClusterSample& x : *c->here)
+        if (double k = meanCosine(sf, r, x.toSender); k > 0.0) out.push_back({x.toSender, x.Eperp * k});
+}
+
 class PushPull {
  public:
   PushPull(State& s, bool push) : s_(s), push_(push) {}
@@ -51,27 +75,38 @@ class PushPull {
     Chain here{&s_.samples[ci], up};
     const std::size_t n = c.clusters.size() + c.surfaces.size();
     auto child = [&](std::size_t k) {
-      if (k < c.clusters.size())
+      if (k < c.clusters.size()) {
         cluster(c.clusters[k], &here);
-      else
-        element(s_.h.roots()[c.surfaces[k - c.clusters.size()]], Rgb(0.0), &here, true);
+        return;
+      }
+      Element& e = s_.h.roots()[c.surfaces[k - c.clusters.size()]];
+      std::vector<hr::IncidentSample> samples;
+      element(e, Rgb(0.0), &here, true, push_ && s_.owned(e) ? &samples : nullptr);
     };
-    if (c.surfaceCount > 64)
+    // Subtrees the extension simulates get tasks too: reflection costs far more than a task.
+    if (c.surfaceCount > 64 || (s_.ext && s_.ownedCluster[ci]))
       tbb::parallel_for(std::size_t(0), n, child);
     else
       for (std::size_t k = 0; k < n; ++k) child(k);
     c.P = Rgb(0.0);
     for (std::uint32_t k : c.clusters) c.P += s_.h.clusters()[k].P;
     for (std::uint32_t k : c.surfaces) c.P += s_.h.roots()[k].P;
+    if (push_ && s_.ext && s_.ownedCluster[ci]) s_.ext->pull(NodeView::cluster(ci), s_.view->children(NodeView::cluster(ci)));
   }
 
  private:
-  void element(Element& e, Rgb down, const Chain* chain, bool root) {
+  /// `samples`: the extension's samples that reached the element from above (null outside the
+  /// surfaces it simulates); restored to their length on return.
+  void element(Element& e, Rgb down, const Chain* chain, bool root, std::vector<hr::IncidentSample>* samples) {
     const Surface& sf = s_.h.surfaces()[e.surface];
     if (root && chain && sf.planar()) {
+      if (samples) chainSamples(chain, sf, e.rect, *samples);
       down += onPlane(chain, sf.normal(0.5, 0.5));
       chain = nullptr;
     }
+    const std::size_t mark = samples ? samples->size() : 0;
+    if (samples) samples->insert(samples->end(), e.arrivals.begin(), e.arrivals.end());
+    e.arrivals.clear();
     const Rgb total = down + e.E;
     e.E = Rgb(0.0);
     if (e.leaf() && !push_) {
@@ -83,18 +118,33 @@ class PushPull {
       e.B += dB;
       e.U = dB;
       e.P = e.g.area * dB;
+      if (samples) {
+        if (chain) chainSamples(chain, sf, e.rect, *samples);
+        s_.handed.fetch_add(samples->size(), std::memory_order_relaxed);
+        if (!samples->empty()) s_.ext->reflectShot(hr::NodeId{e.id}, *samples);
+      }
     } else {
       Rgb P(0.0), BA(0.0);
       double A = 0.0;
+      if (samples) {
+        // Each child with its own copy of the samples so far, in parallel (reflection is costly).
+        tbb::parallel_for(0, int(e.nkids), [&](int k) {
+          std::vector<hr::IncidentSample> mine(*samples);
+          element(e.kids[k], total, chain, false, &mine);
+        });
+      } else {
+        for (int k = 0; k < e.nkids; ++k) element(e.kids[k], total, chain, false, nullptr);
+      }
       for (int k = 0; k < e.nkids; ++k) {
-        Element& c = e.kids[k];
-        element(c, total, chain, false);
+        const Element& c = e.kids[k];
         P += c.P, BA += c.g.area * c.B, A += c.g.area;
       }
       e.P = P;
       e.B = A > 0.0 ? BA / A : e.B;
       e.U = A > 0.0 ? P / A : Rgb(0.0);
+      if (samples) s_.ext->pull(hr::NodeId{e.id}, s_.view->children(hr::NodeId{e.id}));
     }
+    if (samples) samples->resize(mark);
     e.sendKids = e.nkids;
   }
 

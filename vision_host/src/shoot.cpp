@@ -39,13 +39,18 @@ class Shot {
     x.cluster = c;
     x.g = s_.h.clusters()[c].g;
     x.P = s_.h.clusters()[c].P;
+    extensionSender(s_, x);
     return x;
   }
-  static Sender ofElement(const Element& e) {
+  Sender ofElement(const Element& e) const {
     Sender x;
     x.e = &e, x.rect = e.rect, x.level = e.level, x.g = e.g, x.P = e.P;
     x.U = e.g.area > 0.0 ? e.P / e.g.area : Rgb(0.0);
+    extensionSender(s_, x);
     return x;
+  }
+  static void keep(Sender x, std::vector<Sender>& out) {
+    if (!x.dark()) out.push_back(std::move(x));
   }
   /// An element below the depth and area limits may split (levels count halvings of the area).
   bool splittable(std::uint16_t level, double area) const { return level < maxLevel_ && 0.25 * area >= s_.minArea; }
@@ -59,15 +64,12 @@ class Shot {
   void childrenOf(const Sender& x, std::vector<Sender>& out) const {
     if (x.cluster != hr::kNone) {
       const Cluster& c = s_.h.clusters()[x.cluster];
-      for (std::uint32_t k : c.clusters)
-        if (s_.h.clusters()[k].P != Rgb(0.0)) out.push_back(ofCluster(k));
-      for (std::uint32_t k : c.surfaces)
-        if (s_.h.roots()[k].P != Rgb(0.0)) out.push_back(ofElement(s_.h.roots()[k]));
+      for (std::uint32_t k : c.clusters) keep(ofCluster(k), out);
+      for (std::uint32_t k : c.surfaces) keep(ofElement(s_.h.roots()[k]), out);
       return;
     }
     if (!x.part && x.e->sendKids > 0) {
-      for (int k = 0; k < x.e->sendKids; ++k)
-        if (x.e->kids[k].P != Rgb(0.0)) out.push_back(ofElement(x.e->kids[k]));
+      for (int k = 0; k < x.e->sendKids; ++k) keep(ofElement(x.e->kids[k]), out);
       return;
     }
     // A leaf (or a part of one) shoots as the parts it would split into, each with its uniform light.
@@ -79,14 +81,16 @@ class Shot {
       p.level = std::uint16_t(x.level + sp.levelStep);
       p.g = measure(sf, p.rect);
       p.U = x.U, p.P = p.g.area * x.U;
-      out.push_back(std::move(p));
+      extensionSender(s_, p);
+      keep(std::move(p), out);
     }
   }
 
   void accept(const Receiver& r, const Estimate& est) {
-    if (r.e)
+    if (r.e) {
       r.e->E += est.E;
-    else if (est.E != Rgb(0.0))
+      if (s_.owned(*r.e) && est.E != Rgb(0.0)) r.e->arrivals.push_back({est.toSender, est.E});
+    } else if (est.E != Rgb(0.0))
       s_.samples[r.cluster].push_back({est.toSender, est.E});
   }
 
@@ -107,10 +111,17 @@ class Shot {
       // A flat or convex surface never lights itself.
       if (x.cluster == hr::kNone && r.e && x.e->surface == r.e->surface && !s_.h.surfaces()[r.e->surface].concave()) continue;
       const double phi = hr::luminance(x.P);
-      if (!(phi > 0.0)) continue;
+      if (!(phi > 0.0) && !x.owned) continue;
       const KernelBounds kb = kernelBounds(x.g, rg);
       if (!(kb.kmax > 0.0)) continue;
-      const double gap = kb.overlap ? std::numeric_limits<double>::infinity() : rg.area * (kb.kmax - kb.kmin) * phi / hr::kPi;
+      double gap = kb.overlap ? std::numeric_limits<double>::infinity() : rg.area * (kb.kmax - kb.kmin) * phi / hr::kPi;
+      // The extension's share: first from its peak alone (cheap), over the cone toward the receiver
+      // only when that would split.
+      if (x.owned && gap <= limit) {
+        const double lambertian = gap;
+        gap = lambertian + extensionGap(s_, x, rg, kb, true);
+        if (gap > limit) gap = lambertian + extensionGap(s_, x, rg, kb, false);
+      }
       const bool xSplits = canSplit(x);
       if (gap <= limit || (!xSplits && !rSplits)) {
         const Estimate est = estimate(s_, x, r);

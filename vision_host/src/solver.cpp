@@ -1,7 +1,11 @@
 // The VISION-like host's iteration: emitters start with their light unshot; each iteration shoots
 // all unshot light (shoot.cpp) and pushes what arrived down to the leaves, where it becomes the next
 // iteration's unshot light (push_pull.cpp); the run ends when the unshot power is below tolerance of
-// the emitted power, and the energy audit (audit.cpp) closes it.
+// the emitted power, and the energy audit (audit.cpp) closes it. With an extension, between a shot and
+// its push the new elements are numbered (node_view.cpp) and announced (attach, split) and every
+// node's unshot light is cleared (shot), as the whole scene has just shot it; the push then hands
+// the extension this shot's samples (push_pull.cpp).
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <time.h>
 #include <vision/solver.h>
@@ -55,11 +59,50 @@ TreeCounts countElements(const Hierarchy& h) {
 
 struct Solver::Impl {
   detail::State s;
+  detail::NodeView view;
   hr::Progress* progress;
   hr::Progress silent{true};
   double unshot = 0.0, visShare = 0.0;
-  Impl(const hr::Scene& sc, Hierarchy& h, const CurvedVisibility& v, const hr::SolverOptions& o, hr::Progress* p)
-      : s(sc, h, v, o), progress(p ? p : &silent) {}
+  Impl(const hr::Scene& sc, Hierarchy& h, const CurvedVisibility& v, const hr::SolverOptions& o, hr::Extension* e,
+       hr::Progress* p)
+      : s(sc, h, v, o), view(sc, h), progress(p ? p : &silent) {
+    if (e && !e->canShoot())
+      throw hr::InputError("--algorithm " + std::string(e->name()) +
+                           ": gathers only, and the VISION-like host shoots (use --host bright --iteration gather)");
+    s.ext = e;
+    s.view = &view;
+    markOwned();
+  }
+
+  /// Surfaces whose material the extension simulates, and the clusters holding any.
+  void markOwned() {
+    s.ownedSurface.assign(s.h.surfaces().size(), 0);
+    s.ownedCluster.assign(s.h.clusters().size(), 0);
+    if (!s.ext) return;
+    for (std::size_t i = 0; i < s.h.surfaces().size(); ++i)
+      s.ownedSurface[i] = s.ext->simulates(view.material(s.h.surfaces()[i].material)) ? 1 : 0;
+    // Clusters are built parents first: a reverse sweep sees children first.
+    for (std::size_t c = s.h.clusters().size(); c-- > 0;) {
+      const Cluster& cl = s.h.clusters()[c];
+      for (std::uint32_t k : cl.clusters) s.ownedCluster[c] |= s.ownedCluster[k];
+      for (std::uint32_t k : cl.surfaces) s.ownedCluster[c] |= s.ownedSurface[k];
+    }
+  }
+
+  /// After a shot: number its new elements; the extension learns of them and clears the unshot light
+  /// every node has just sent.
+  void afterShot() {
+    std::vector<Element*> split;
+    view.number(split);
+    if (!s.ext) return;
+    s.ext->attach(view);
+    for (Element* e : split)
+      if (s.owned(*e)) s.ext->split(hr::NodeId{e->id}, view.children(hr::NodeId{e->id}));
+    auto& roots = s.h.roots();
+    tbb::parallel_for(std::size_t(0), roots.size(), [&](std::size_t i) {
+      if (s.owned(roots[i])) s.ext->shot(hr::NodeId{roots[i].id});
+    });
+  }
 
   void initialLight(hr::SolveStats& st) {
     for (Element& r : s.h.roots()) {
@@ -81,6 +124,7 @@ struct Solver::Impl {
     const auto t0 = std::chrono::steady_clock::now();
     st.initialPatches = s.h.surfaces().size();
     initialLight(st);
+    if (s.ext) s.ext->attach(view);
     {
       Clock c(st.pushPull);
       unshot = detail::pushPull(s, false);  // no light received yet: powers and tables from the emitters
@@ -93,12 +137,13 @@ struct Solver::Impl {
       {
         Clock c(st.refine);
         used = detail::shoot(s);
+        afterShot();
       }
       st.linksComputed += used;
       progress->phase("iteration " + std::to_string(it) + ": push/pull");
       {
         Clock c(st.pushPull);
-        unshot = detail::pushPull(s);
+        unshot = detail::pushPull(s) + detail::extensionUnshot(s);
       }
       if (!std::isfinite(unshot)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
       TreeCounts n = countElements(s.h);
@@ -109,6 +154,8 @@ struct Solver::Impl {
       is.links = 0;
       is.elements = n.elements;
       is.refined = n.elements - before;
+      is.samples = s.handed.exchange(0);
+      st.peakSamples = std::max(st.peakSamples, is.samples);
       is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
       st.history.push_back(is);
       st.iterations = it;
@@ -121,6 +168,7 @@ struct Solver::Impl {
         break;
       }
     }
+    st.unshotW = unshot;
     if (!st.converged)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
@@ -154,11 +202,12 @@ struct Solver::Impl {
 };
 
 Solver::Solver(const hr::Scene& scene, Hierarchy& h, const CurvedVisibility& vis, const hr::SolverOptions& opt,
-               hr::Progress* progress)
-    : impl_(std::make_unique<Impl>(scene, h, vis, opt, progress)) {}
+               hr::Extension* ext, hr::Progress* progress)
+    : impl_(std::make_unique<Impl>(scene, h, vis, opt, ext, progress)) {}
 Solver::~Solver() = default;
 hr::SolveStats Solver::solve() { return impl_->solve(); }
 double Solver::unshotW() const { return impl_->unshot; }
 double Solver::visibilityShare() const { return impl_->visShare; }
+const hr::HostView& Solver::view() const { return impl_->view; }
 
 }  // namespace vision

@@ -4,6 +4,7 @@
 // bounds.cpp (bounded radiosity), contour.cpp and transfer.cpp (estimates), shoot.cpp (link-less
 // shooting), push_pull.cpp, intensity.cpp (unshot intensity), audit.cpp (energy).
 #pragma once
+#include <hr/extension.h>
 #include <hr/octamap.h>
 #include <hr/solver.h>
 #include <vision/curved_visibility.h>
@@ -11,6 +12,8 @@
 
 #include <atomic>
 #include <vector>
+
+#include "node_view.h"
 
 namespace vision::detail {
 
@@ -26,6 +29,13 @@ struct Sender {
   Geometry g;
   Rgb U{0.0};  // unshot radiosity, W/m^2 (elements and parts)
   Rgb P{0.0};  // unshot power, W
+  // The extension's share (hr/extension.h), when it simulates part of the sender: the node it asks
+  // (a part asks its leaf, scaled by the part's share of the leaf's area) and its unshot power, W.
+  hr::NodeId node;
+  double share = 1.0;
+  bool owned = false;
+  Rgb X{0.0};
+  bool dark() const { return P == Rgb(0.0) && X == Rgb(0.0); }
 };
 
 /// A node that receives: a cluster or an element (owned by the task that visits it).
@@ -40,6 +50,10 @@ struct Receiver {
 struct KernelBounds {
   double kmin = 0.0, kmax = 0.0;
   bool overlap = false;
+  // The parts an extension's bound needs: the cone (axis, half-angle beta; pi: unbounded) of
+  // directions from sender to receiver, the receiver's cosine bounds and the squared distance bounds.
+  Vec3 axis{0.0, 0.0, 1.0};
+  double beta = hr::kPi, rLo = 0.0, rHi = 1.0, rmin2 = 0.0, rmax2 = 0.0;
 };
 
 struct State {
@@ -49,6 +63,9 @@ struct State {
   Hierarchy& h;
   const CurvedVisibility& vis;
   hr::SolverOptions opt;
+  hr::Extension* ext = nullptr;               // additive: it owns only the part it simulates
+  const NodeView* view = nullptr;             // what the extension reads of the nodes
+  std::vector<std::uint8_t> ownedSurface, ownedCluster;  // the extension simulates a surface inside
 
   double emitted = 0.0;     // luminance, W
   double threshold = 0.0;   // eps * emitted: the largest gap a kept interaction may have, W
@@ -60,11 +77,13 @@ struct State {
   std::vector<std::uint32_t> first;                 // per cluster: where its surfaces start in order
   std::vector<double> areaPrefix;                   // cumulative area along order
   mutable std::atomic<std::uint64_t> rays{0}, visibilityNs{0};  // counters the const phases bump
+  std::atomic<std::uint64_t> handed{0};  // samples handed to the extension's reflection this shot
   // Threads seen working in each phase (bit per TBB thread index): a phase that should be parallel
   // but ran on one thread shows in stats.json.
   mutable std::atomic<std::uint64_t> shootThreads{0}, pushThreads{0}, auditThreads{0};
 
   const hr::Material& material(const Element& e) const { return scene.materials[h.surfaces()[e.surface].material]; }
+  bool owned(const Element& e) const { return ext && ownedSurface[e.surface]; }
   /// Clusters of more surfaces than this keep a table of their unshot intensity.
   static constexpr std::uint32_t kTabled = 16;
   const float* table(const Cluster& c) const { return &tables[std::size_t(c.table) * hr::OctaMap::kBins * 3]; }
@@ -96,6 +115,20 @@ void outline(const Surface& s, const Rect& r, std::vector<Vec3>& out);
 Rgb unshotIntensity(const State& s, const Sender& snd, const Vec3& dir);
 /// Tables of unshot intensity for the large clusters (after the pull). Parallel.
 void buildTables(State& s);
+
+// extension_light.cpp: the extension's share of a sender's unshot light (none without one)
+/// Sets a sender's node, share, owned flag and unshot power of the extension.
+void extensionSender(const State& s, Sender& x);
+/// Its unshot intensity toward unit dir, W/sr.
+Rgb extensionIntensity(const State& s, const Sender& x, const Vec3& dir);
+/// Its unoccluded irradiance on an element receiver whose mean form factor to the sender is F, W/m^2
+/// (a flat sender's light as a radiosity that F turns into irradiance, as the host's own).
+Rgb extensionIrradiance(const State& s, const Sender& x, const Element& r, double F);
+/// How far the power it brings the receiver may be off, W (luminance); `coarse`: from its peak
+/// over all directions, without looking at any.
+double extensionGap(const State& s, const Sender& x, const Geometry& r, const KernelBounds& kb, bool coarse);
+/// Its unshot power left in the whole scene, W (luminance).
+double extensionUnshot(const State& s);
 
 // transfer.cpp
 struct Estimate {

@@ -179,13 +179,14 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
         fsum += wq * (inside ? insideFormFactor(rs, snd.rect, u, v, rs.point(u, v), rs.normal(u, v)) : F(rs.point(u, v), rs.normal(u, v)));
         asum += wq;
       }
-    Eun = snd.U * (asum > 0.0 ? fsum / asum : 0.0);
+    const double ff = asum > 0.0 ? fsum / asum : 0.0;
+    Eun = snd.U * ff + extensionIrradiance(s, snd, *rc.e, ff);
   } else {
     // A cluster at one end: far field. The mean of 1/r^2 over both nodes exceeds 1/d^2 between
     // centroids by (s_s^2 + s_r^2) / (3 d^2) to second order.
     const double d2 = std::max(dist * dist, 1e-300);
     const double g = (1.0 + (snd.g.spread2 + rg.spread2) / (3.0 * d2)) / d2;
-    Rgb Eperp = unshotIntensity(s, snd, -est.toSender) * g;
+    Rgb Eperp = (unshotIntensity(s, snd, -est.toSender) + extensionIntensity(s, snd, -est.toSender)) * g;
     if (rc.e) {
       const Surface& rs = s.h.surfaces()[rc.e->surface];
       double c = 0.0, a = 0.0;

@@ -8,7 +8,7 @@
 // may split it; senders read only `sendKids`, the children that existed when the shot began (set
 // between shots), so no task ever reads a child another task is creating.
 #pragma once
-#include <hr/types.h>
+#include <hr/extension.h>
 #include <vision/surface.h>
 
 #include <memory>
@@ -55,7 +55,10 @@ struct Element {
   Rgb P{0.0};     // unshot power of the subtree, A U summed, W
   Rgb E{0.0};     // irradiance received this shot at this node (mean over it), W/m^2
   Rgb Etot{0.0};  // all irradiance a leaf has received, W/m^2 (the energy audit's absorption)
-  std::uint32_t id = hr::kNone;   // dense index, assigned between shots (stats, outputs)
+  std::uint32_t id = hr::kNone;   // dense index, assigned between shots (the extension's NodeId)
+  // An extension's share: what each interaction brought this shot, on the element's surface (only
+  // for surfaces the extension simulates; emptied by the push).
+  std::vector<hr::IncidentSample> arrivals;
   bool leaf() const { return nkids == 0; }
 };
 
