@@ -51,7 +51,7 @@ std::unique_ptr<hr::Extension> loadExtension(const hr::Solution& s, const hr::Ho
   if (ext->formatVersion() != s.extension.version)
     throw hr::InputError(file + ": extension \"" + s.extension.name + "\" data version " +
                          std::to_string(s.extension.version) + " is not supported (expected " +
-                         std::to_string(ext->formatVersion()) + ")");
+                         std::to_string(ext->formatVersion()) + "; solve the scene again with this build)");
   try {
     ext->load(s.extension.bytes, view);
   } catch (const hr::InputError& e) {

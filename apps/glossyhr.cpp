@@ -138,7 +138,12 @@ int runSolve(const SolveArgs& a) {
   run.seed = opt.seed;
   run.maxImbalance = opt.maxImbalance;
   if (ext)
-    for (const auto& e : ext->stats()) run.extension.emplace_back(e.name, e.value);
+    for (const auto& e : ext->stats()) {
+      if (e.text.empty())
+        run.extension.emplace_back(e.name, e.value);
+      else
+        run.extensionText.emplace_back(e.name, e.text);
+    }
   hr::saveSolution(sol, out.path("solution.ghrs"));
   hr::writeVtp(sol, out.path("solution.vtp"), ext.get());
   writeImages(sol, ext.get(), out, a.quiet);
@@ -157,6 +162,8 @@ int runSolve(const SolveArgs& a) {
                  st.initialPatches, st.elements, st.leaves, st.clusters, st.links,
                  static_cast<unsigned long long>(st.rays), st.emittedW.y, st.absorbedW.y, st.backAbsorbedW.y, st.escapedW.y,
                  100.0 * bal.y / std::max(st.emittedW.y, 1e-300));
+    // The extension's choices (e.g. the basis of each glossy material under --basis auto).
+    for (const auto& [name, text] : run.extensionText) std::fprintf(stderr, "  %s: %s = %s\n", a.algorithm.c_str(), name.c_str(), text.c_str());
     if (st.iteration == hr::Iteration::Shoot)
       std::fprintf(stderr, "  unshot power left: %.4g W (luminance; %.2e of emitted)\n", st.unshotW,
                    st.unshotW / std::max(hr::luminance(st.emittedW), 1e-300));

@@ -1,7 +1,10 @@
 // Directional bases side by side, in one run: for Phong lobes of exponent 10, 100 and 1000 (rho_s
 // 0.8, rho_d 0.1, 30 degrees incidence) and each basis at several levels/orders, the coefficients,
 // memory per distribution, projection time, mean evaluation time per direction and the errors against
-// the analytic lobe; then the Haar / SH-16 evaluation-time ratio.
+// the analytic lobe; then the Haar / SH-16 evaluation-time ratio; then the crossovers `--basis auto`
+// rests on: each basis at the solve's settings, projected as a solve projects (LobeSpec::asSolved).
+#include <glossy/basis_rule.h>
+#include <glossy/is_options.h>
 #include <glossy/lobe.h>
 
 #include <cstdio>
@@ -41,9 +44,53 @@ std::vector<Config> configs() {
   return c;
 }
 
+/// The solve's default settings of each basis and the next finer ones, for the crossover table.
+std::vector<Config> solveConfigs() {
+  std::vector<Config> c;
+  for (int step = 0; step < 2; ++step) {
+    glossy::BasisSpec h = glossy::defaultIsBasis(), t = h, s = h;
+    h.haar.maxLevel += step;
+    t.basis = glossy::Basis::Tetra;
+    t.tetraLevel += step;
+    s.basis = glossy::Basis::Sh;
+    s.shOrder += 4 * step;
+    for (const glossy::BasisSpec& b : {h, t, s}) c.push_back({b.describe(), b});
+  }
+  return c;
+}
+
+/// For each exponent and configuration: l2 rel error | coefficients (rho_s 0.5, 30 degrees incidence).
+void crossovers() {
+  std::printf("\nAs solved (specular lobe only, rho_s 0.5, 30 deg incidence): l2 rel error (coefficients)\n| exponent |");
+  for (const Config& c : solveConfigs()) std::printf(" %s |", c.name.c_str());
+  std::printf(" auto (defaults) | auto (finer) |\n|---|");
+  for (std::size_t k = 0; k < solveConfigs().size() + 2; ++k) std::printf("---|");
+  std::printf("\n");
+  const glossy::BasisSpec coarse = solveConfigs()[0].spec, fine = solveConfigs()[3].spec;
+  glossy::BasisSpec fineAll = fine;
+  fineAll.tetraLevel = solveConfigs()[4].spec.tetraLevel;
+  fineAll.shOrder = solveConfigs()[5].spec.shOrder;
+  for (double n : {2.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 50.0, 70.0, 100.0, 200.0, 500.0, 1000.0, 5000.0}) {
+    glossy::LobeSpec lobe;
+    lobe.exponent = n;
+    lobe.asSolved = true;
+    std::printf("| %g |", n);
+    for (const Config& c : solveConfigs()) {
+      glossy::LobeReport r = glossy::analyzeLobe(lobe, c.spec, false);
+      std::printf(" %.3f (%zu) |", r.l2RelError, r.coefficients);
+    }
+    std::printf(" %s | %s |\n", glossy::basisName(glossy::autoBasis(n, coarse)), glossy::basisName(glossy::autoBasis(n, fineAll)));
+  }
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  // --crossovers: only the table `--basis auto` rests on (seconds, not minutes).
+  if (argc > 1 && std::string(argv[1]) == "--crossovers") {
+    crossovers();
+    return 0;
+  }
   double haarEval = 0.0, sh16Eval = 0.0;
   int haarCount = 0, shCount = 0;
   for (double n : {10.0, 100.0, 1000.0}) {
@@ -67,5 +114,6 @@ int main() {
   sh16Eval /= shCount;
   std::printf("\nmean evaluation per direction: Haar (all configurations above) %.1f ns, SH order 16 %.1f ns\n", haarEval, sh16Eval);
   std::printf("ratio Haar / SH-16: %.3f\n", haarEval / sh16Eval);
+  crossovers();
   return 0;
 }

@@ -164,6 +164,10 @@ std::vector<Case> cases() {
       {"sh_order_with_haar", "solve --sh-order 3 --algorithm is -o {out}"},
       {"tetra_level_with_sh", "solve --tetra-level 2 --algorithm is --basis sh -o {out}"},
       {"extension_option_without_extension", "solve --basis haar --algorithm diffuse -o {out}"},
+      // --basis auto (issue 17): the spelling is exact, and every basis's options keep their ranges.
+      {"basis_auto_capitalised", "solve --basis Auto --algorithm is -o {out}"},
+      {"basis_auto_tetra_level_9", "solve --tetra-level 9 --basis auto --algorithm is -o {out}"},
+      {"basis_auto_with_diffuse", "solve --basis auto --algorithm diffuse -o {out}"},
       // Shooting (issue 13).
       {"iteration_unknown", "solve --iteration foo -o {out}"},
       {"shoot_fraction_0", "solve --shoot-fraction 0 --iteration shoot -o {out}"},

@@ -32,6 +32,8 @@ std::span<const NodeId> SolutionView::children(NodeId n) const {
   return std::span<const NodeId>(kids_.data() + slot_[n.index()], 4);
 }
 
+std::string SolutionView::materialName(std::uint32_t id) const { return s_.materials[id].name; }
+
 MaterialInfo SolutionView::material(std::uint32_t id) const {
   const Material& m = s_.materials[id];
   return {m.diffuse, m.specular, m.exponent, m.emission};

@@ -71,6 +71,7 @@ struct Solver::Impl final : public HostView {
   std::size_t elementCount() const override { return s.h.elements().size(); }
   std::size_t clusterCount() const override { return s.h.clusters().size(); }
   std::size_t materialCount() const override { return s.scene.materials.size(); }
+  std::string materialName(std::uint32_t id) const override { return s.scene.materials[id].name; }
   MaterialInfo material(std::uint32_t id) const override {
     const Material& m = s.scene.materials[id];
     return {m.diffuse, m.specular, m.exponent, m.emission};

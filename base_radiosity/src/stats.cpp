@@ -64,9 +64,10 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
   // false means the answer is not trustworthy, and `glossyhr solve` exits 3.
   j["energy_ok"] = st.energyOk;
   j["max_imbalance"] = run.maxImbalance;
-  if (!run.extension.empty()) {
+  if (!run.extension.empty() || !run.extensionText.empty()) {
     json ext = json::object();
     for (const auto& [name, value] : run.extension) ext[name] = std::isfinite(value) ? json(value) : json(nullptr);
+    for (const auto& [name, text] : run.extensionText) ext[name] = text;
     j["extension"] = ext;
   }
   j["iteration_scheme"] = st.iteration == Iteration::Shoot ? "shoot" : "gather";

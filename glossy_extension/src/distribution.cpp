@@ -21,6 +21,9 @@ const char* basisName(Basis b) {
 }
 
 std::string BasisSpec::describe() const {
+  if (automatic)
+    return "auto per material (" + with(Basis::Haar).describe() + "; " + with(Basis::Tetra).describe() + "; " +
+           with(Basis::Sh).describe() + ")";
   switch (basis) {
     case Basis::Haar:
       return std::string("haar eps ") + std::to_string(haar.eps) + " levels " + std::to_string(haar.minLevel) + "-" +

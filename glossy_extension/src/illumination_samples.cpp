@@ -1,6 +1,7 @@
 // The Illumination Samples extension's life cycle: options, side tables, split notices, reflection
 // at the leaves, the pull above them, convergence and statistics. Queries (sending, oracle, energy,
 // display) are in is_queries.cpp, the solution file in is_file.cpp.
+#include <glossy/basis_rule.h>
 #include <glossy/bound.h>
 #include <glossy/haar_sum.h>
 #include <glossy/illumination_samples.h>
@@ -8,6 +9,8 @@
 #include <glossy/reflection.h>
 
 #include "is_counters.h"
+
+#include <cstdio>
 
 namespace glossy {
 
@@ -38,8 +41,37 @@ void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {
   change_.resize(elements, Rgb(0.0));
 }
 
+void IlluminationSamples::chooseBases(const hr::HostView& view) {
+  materialBasis_.assign(view.materialCount(), basis_.basis);
+  if (!basis_.automatic) return;
+  for (std::uint32_t m = 0; m < view.materialCount(); ++m) {
+    hr::MaterialInfo info = view.material(m);
+    if (!simulates(info)) continue;
+    auto it = std::find_if(autoChoices_.begin(), autoChoices_.end(), [&](const auto& c) { return c.first == info.exponent; });
+    if (it == autoChoices_.end()) it = autoChoices_.insert(it, {info.exponent, autoChoice(info.exponent, basis_)});
+    materialBasis_[m] = it->second.basis;
+  }
+}
+
+Basis IlluminationSamples::materialBasis(std::uint32_t id) const {
+  return id < materialBasis_.size() ? materialBasis_[id] : basis_.basis;
+}
+
+hr::Rgb IlluminationSamples::NodeLight::totalPower() const {
+  Rgb p = power;
+  for (const NodeLight& m : more) p += m.power;
+  return p;
+}
+
+std::size_t IlluminationSamples::NodeLight::totalCoefficients() const {
+  std::size_t n = glossy::coefficients(dist);
+  for (const NodeLight& m : more) n += glossy::coefficients(m.dist);
+  return n;
+}
+
 void IlluminationSamples::attach(const hr::HostView& view) {
   view_ = &view;
+  chooseBases(view);
   resize(view.elementCount(), view.clusterCount());
   notePeak(held());
 }
@@ -96,9 +128,13 @@ void IlluminationSamples::split(hr::NodeId parent, std::span<const hr::NodeId> c
       double ratio = view_->info(c).area / p->area;
       if (!(ratio >= 0.0) || !std::isfinite(ratio)) continue;
       auto l = std::make_unique<NodeLight>(*p);
-      std::visit([&](auto& d) { d.scale(ratio); }, l->dist);
-      l->area = p->area * ratio;
-      finish(*l);
+      auto scaled = [&](NodeLight& part) {
+        std::visit([&](auto& d) { d.scale(ratio); }, part.dist);
+        part.area = p->area * ratio;
+        finish(part);
+      };
+      scaled(*l);
+      for (NodeLight& m : l->more) scaled(m);
       (*table)[c.index()] = std::move(l);
     }
   }
@@ -117,13 +153,14 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   auto l = std::make_unique<NodeLight>();
   l->normal = info.normal;
   l->area = info.area;
-  l->frame = basis_.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
+  const BasisSpec spec = basis_.with(materialBasis(info.material));
+  l->frame = spec.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
   ReflectCounts rc;
-  double n = representableExponent(basis_, m.exponent);
+  double n = representableExponent(spec, m.exponent);
   LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc);
   std::unique_ptr<NodeLight> out;
   if (simulates(m) && !lobes.samples.empty()) {
-    l->dist = projectLobes(lobes, basis_, rc);
+    l->dist = projectLobes(lobes, spec, rc);
     finish(*l);
     out = std::move(l);
   }
@@ -179,16 +216,34 @@ void IlluminationSamples::shot(hr::NodeId node) {
 
 std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::sum(hr::NodeId node,
                                                                        std::span<const NodeLight* const> parts) const {
-  std::vector<const NodeLight*> lit;
-  for (const NodeLight* p : parts)
-    if (p) lit.push_back(p);
-  if (lit.empty()) return nullptr;
+  // Grouped by basis (the variant's index is the Basis), parts of parts included.
+  std::vector<const NodeLight*> byBasis[3];
+  for (const NodeLight* p : parts) {
+    if (!p) continue;
+    byBasis[p->dist.index()].push_back(p);
+    for (const NodeLight& m : p->more) byBasis[m.dist.index()].push_back(&m);
+  }
+  std::unique_ptr<NodeLight> out;
+  for (std::size_t b = 0; b < 3; ++b) {
+    if (byBasis[b].empty()) continue;
+    NodeLight one = sumOneBasis(node, Basis(b), byBasis[b]);
+    if (!out)
+      out = std::make_unique<NodeLight>(std::move(one));
+    else
+      out->more.push_back(std::move(one));
+  }
+  return out;
+}
+
+IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node, Basis b,
+                                                                std::span<const NodeLight* const> lit) const {
   hr::NodeInfo info = view_->info(node);
-  auto l = std::make_unique<NodeLight>();
+  NodeLight out;
+  NodeLight* l = &out;
   l->area = info.area;
   bool planar = !node.isCluster() && info.planar && usableNormal(info.normal);
   l->normal = planar ? info.normal : Vec3(0.0);
-  if (basis_.basis == Basis::Haar) {
+  if (b == Basis::Haar) {
     // A planar node keeps its own frame; a cluster keeps its children's when they agree.
     Frame target = planar ? Frame::around(info.normal) : lit.front()->frame;
     std::vector<HaarTerm> terms;
@@ -209,7 +264,7 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::sum(hr::Nod
     l->frame = Frame::world();
   }
   finish(*l);
-  return l;
+  return out;
 }
 
 void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> children) {
@@ -242,14 +297,14 @@ double IlluminationSamples::powerChange() const {
 
 hr::Rgb IlluminationSamples::unshotPower(hr::NodeId node) const {
   const NodeLight* l = unshotLight(node);
-  return l ? l->power : Rgb(0.0);
+  return l ? l->totalPower() : Rgb(0.0);
 }
 
 double IlluminationSamples::held() const {
   double n = 0.0;
   for (const Table* t : {&elements_, &clusters_, &unshotElements_, &unshotClusters_})
     for (const auto& l : *t)
-      if (l) n += double(glossy::coefficients(l->dist));
+      if (l) n += double(l->totalCoefficients());
   return n;
 }
 
@@ -257,15 +312,20 @@ void IlluminationSamples::notePeak(double now) { peakHeld_ = std::max(peakHeld_,
 
 std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   double distributions = 0, leafDistributions = 0, coefficientsTotal = 0, coefficientsPeak = 0, bytesTotal = 0;
+  double mixedNodes = 0;  // parts beyond the first in nodes mixing bases
   auto scan = [&](const std::vector<std::unique_ptr<NodeLight>>& table) {
     for (const auto& l : table) {
       bytesTotal += sizeof(l);
       if (!l) continue;
       distributions += 1;
-      double c = double(glossy::coefficients(l->dist));
+      double c = double(l->totalCoefficients());
       coefficientsTotal += c;
       coefficientsPeak = std::max(coefficientsPeak, c);
       bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(l->dist));
+      for (const NodeLight& m : l->more) {
+        bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(m.dist));
+        mixedNodes += 1;
+      }
     }
   };
   scan(elements_);
@@ -278,7 +338,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   bytesTotal += double(change_.capacity() * sizeof(Rgb));
   const Counters& c = *counters_;
   auto v = [](const std::atomic<std::uint64_t>& a) { return double(a.load(std::memory_order_relaxed)); };
-  return {
+  std::vector<hr::StatEntry> out = {
       {"distributions", totalDistributions},
       {"distributions_at_leaves", leafDistributions},
       {"coefficients_total", total},
@@ -299,7 +359,24 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"pull_cells_clipped", v(c.pullClips)},
       {"reflect_cpu_seconds_summed_over_threads", v(c.reflectCpuNs) * 1e-9},
       {"pull_cpu_seconds_summed_over_threads", v(c.pullCpuNs) * 1e-9},
+      {"distribution_parts_in_other_bases", mixedNodes},
   };
+  // Which basis each glossy material's leaves hold (the choice --basis auto made, or the one given).
+  if (view_)
+    for (std::uint32_t m = 0; m < view_->materialCount(); ++m) {
+      hr::MaterialInfo info = view_->material(m);
+      if (!simulates(info)) continue;
+      const std::string name = view_->materialName(m);
+      std::string key = "basis_material_" + std::to_string(m) + (name.empty() ? "" : "_" + name);
+      char text[160];
+      std::snprintf(text, sizeof text, "%s (given, exponent %g)", basisName(materialBasis(m)), info.exponent);
+      for (const auto& [exponent, choice] : autoChoices_)
+        if (basis_.automatic && exponent == info.exponent && choice.basis == materialBasis(m))
+          std::snprintf(text, sizeof text, "%s (auto, exponent %g; lobe l2 error haar %.3f, tetra %.3f, sh %.3f)",
+                        basisName(choice.basis), exponent, choice.l2RelError[0], choice.l2RelError[1], choice.l2RelError[2]);
+      out.push_back({key, std::string(text)});
+    }
+  return out;
 }
 
 }  // namespace glossy

@@ -2,6 +2,9 @@
 // needs nothing else), under a checksum. Loading trusts nothing: a damaged, truncated or foreign
 // section, or one that does not fit the loaded solution's elements, is refused with hr::InputError
 // before any state changes, and nothing non-finite can come out of it.
+// Version 2 (--basis auto): the header says whether bases were chosen per material, and every record
+// names its own basis, so one section holds distributions of several bases. Version 1 sections (one
+// basis, no per-record tag) are refused by the host with the versions named: re-solve to update.
 #include <glossy/illumination_samples.h>
 #include <glossy/is_options.h>
 #include <glossy/serial.h>
@@ -38,9 +41,9 @@ std::uint32_t u32At(std::string_view b, std::size_t at) {
 }
 
 /// The byte size a record must have, from its own header: refuses before anything is allocated.
-std::uint64_t expectedRecordBytes(std::string_view r, const BasisSpec& b) {
+std::uint64_t expectedRecordBytes(std::string_view r, Basis basis) {
   if (r.size() < 12) refuse("distribution record too short");
-  switch (b.basis) {
+  switch (basis) {
     case Basis::Haar: {
       if (r.size() < 16) refuse("distribution record too short");
       std::uint64_t count = u64At(r, 8);
@@ -83,6 +86,7 @@ std::string IlluminationSamples::save() const {
   std::ostringstream out;
   serial::writeU32(out, kMagic);
   serial::writeU32(out, formatVersion());
+  serial::writeU32(out, basis_.automatic ? 1u : 0u);
   serial::writeU32(out, std::uint32_t(basis_.basis));
   serial::writeU64(out, std::bit_cast<std::uint64_t>(basis_.haar.eps));
   serial::writeU32(out, std::uint32_t(basis_.haar.minLevel));
@@ -98,6 +102,7 @@ std::string IlluminationSamples::save() const {
     std::visit([&](const auto& d) { d.serialize(rec); }, elements_[i]->dist);
     std::string r = rec.str();
     serial::writeU32(out, i);
+    serial::writeU32(out, std::uint32_t(elements_[i]->dist.index()));
     serial::writeU64(out, r.size());
     out.write(r.data(), std::streamsize(r.size()));
   }
@@ -108,17 +113,21 @@ std::string IlluminationSamples::save() const {
 }
 
 void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view) {
-  if (bytes.size() < 8 + 40) refuse("truncated (" + std::to_string(bytes.size()) + " bytes)");
+  if (bytes.size() < 8 + 44) refuse("truncated (" + std::to_string(bytes.size()) + " bytes)");
   std::string_view body = bytes.substr(0, bytes.size() - 8);
   if (fnv1a(body) != u64At(bytes, bytes.size() - 8)) refuse("checksum mismatch: the section is damaged or truncated");
   std::istringstream in{std::string(body)};
   BasisSpec b = defaultIsBasis();
   std::vector<std::unique_ptr<NodeLight>> table(view.elementCount());
+  std::map<std::uint32_t, Basis> seen;  // material -> the basis its records are in
   try {
     if (serial::readU32(in) != kMagic) refuse("not an Illumination Samples section");
     std::uint32_t version = serial::readU32(in);
     if (version != formatVersion())
       refuse("format version " + std::to_string(version) + ", this build reads version " + std::to_string(formatVersion()));
+    std::uint32_t automatic = serial::readU32(in);
+    if (automatic > 1) refuse("bad automatic-basis flag " + std::to_string(automatic));
+    b.automatic = automatic == 1;
     std::uint32_t basis = serial::readU32(in);
     if (basis > 2) refuse("unknown basis " + std::to_string(basis));
     b.basis = Basis(basis);
@@ -133,8 +142,12 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
     std::int64_t previous = -1;
     for (std::uint64_t e = 0; e < count; ++e) {
       std::uint32_t index = serial::readU32(in);
+      std::uint32_t recordBasis = serial::readU32(in);
       std::uint64_t size = serial::readU64(in);
       std::string where = "element " + std::to_string(index);
+      if (recordBasis > 2) refuse(where + ": unknown basis " + std::to_string(recordBasis));
+      const Basis rb = Basis(recordBasis);
+      if (!b.automatic && rb != b.basis) refuse(where + ": a " + basisName(rb) + " record in a " + basisName(b.basis) + " section");
       if (std::int64_t(index) <= previous) refuse(where + ": elements out of order or repeated");
       previous = index;
       if (index >= view.elementCount()) refuse(where + ": no such element in the solution");
@@ -143,13 +156,15 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
           !std::isfinite(info.area) || !hr::allFinite(info.normal) || std::abs(glm::length(info.normal) - 1.0) > 1e-6)
         refuse(where + ": not a planar leaf of the solution");
       if (!simulates(view.material(info.material))) refuse(where + ": its material is not glossy");
+      if (seen.emplace(info.material, rb).first->second != rb)
+        refuse(where + ": material " + std::to_string(info.material) + " holds records in two bases");
       std::size_t at = std::size_t(in.tellg());
       if (size > body.size() - at) refuse(where + ": record runs past the end of the section");
       std::string_view rec = body.substr(at, size);
-      if (expectedRecordBytes(rec, b) != size) refuse(where + ": record size does not match its contents");
+      if (expectedRecordBytes(rec, rb) != size) refuse(where + ": record size does not match its contents");
       std::istringstream rin{std::string(rec)};
       auto l = std::make_unique<NodeLight>();
-      switch (b.basis) {
+      switch (rb) {
         case Basis::Haar: {
           HaarDistribution h = HaarDistribution::deserialize(rin);
           checkHaar(h, b.haar.maxLevel);
@@ -174,7 +189,7 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
       in.seekg(std::streamoff(at + size));
       l->normal = info.normal;
       l->area = info.area;
-      l->frame = b.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
+      l->frame = rb == Basis::Haar ? Frame::around(info.normal) : Frame::world();
       finish(*l);
       if (!hr::allFinite(l->power) || !hr::allFinite(l->peak)) refuse(where + ": values out of range");
       table[index] = std::move(l);
@@ -188,6 +203,8 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
   // Everything read: only now replace the state. The section states the basis its data are in.
   basis_ = b;
   view_ = &view;
+  chooseBases(view);  // materials without records; those with records keep the basis they were solved in
+  for (const auto& [material, basis] : seen) materialBasis_[material] = basis;
   elements_ = std::move(table);
   clusters_.clear();
   unshotElements_.clear();

@@ -29,6 +29,8 @@ int parseInt(const hr::OptionValue& v, int lo, int hi) {
   return static_cast<int>(x);
 }
 
+/// The basis an option belongs to; with --basis auto every basis's options apply (to the materials
+/// that get that basis).
 const char* owner(const std::string& name) {
   if (name == "dir-eps" || name == "dir-min-level" || name == "dir-max-level") return "haar";
   if (name == "tetra-level") return "tetra";
@@ -52,7 +54,8 @@ BasisSpec defaultIsBasis() {
 
 std::vector<hr::OptionSpec> isOptionSpecs() {
   return {
-      {"basis", "directional basis of glossy exitant light: haar (adaptive, default), tetra or sh"},
+      {"basis", "directional basis of glossy exitant light: haar (adaptive, default), tetra, sh, or auto (per material "
+                "from its exponent; docs/directional.md)"},
       {"dir-eps", "haar: relative refinement threshold of the distributions (> 0; default 0.5)"},
       {"dir-min-level", "haar: minimum subdivision level (0-8, default 1)"},
       {"dir-max-level", "haar: maximum subdivision level (0-8, at least dir-min-level; default 3)"},
@@ -73,15 +76,15 @@ BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values) {
   }
   BasisSpec b = defaultIsBasis();
   if (auto it = given.find("basis"); it != given.end()) {
-    try {
-      b.basis = parseBasis(it->second->value);
-    } catch (const std::invalid_argument& e) {
-      fail("basis", e.what());
-    }
+    const std::string& name = it->second->value;
+    b.automatic = name == "auto";
+    if (!b.automatic && name != "haar" && name != "tetra" && name != "sh")
+      fail("basis", "unknown basis '" + name + "' (valid: haar, tetra, sh, auto)");
+    if (!b.automatic) b.basis = parseBasis(name);
   }
   for (const auto& [name, v] : given) {
     const char* o = owner(name);
-    if (o && std::string(o) != basisName(b.basis))
+    if (o && !b.automatic && std::string(o) != basisName(b.basis))
       fail(name, std::string("applies to --basis ") + o + " only (the basis is " + basisName(b.basis) + ")");
   }
   if (auto it = given.find("dir-eps"); it != given.end()) {

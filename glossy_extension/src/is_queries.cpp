@@ -23,9 +23,8 @@ double resolutionAngle(const AnyDistribution& d) {
   return 0.0;
 }
 
-/// A bound of that intensity within acos(cosHalfAngle) of unit axis.
-Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double cosHalfAngle) {
-  if (!l) return Rgb(0.0);
+/// A bound of one part's intensity within acos(cosHalfAngle) of unit axis.
+Rgb boundOfPart(const IlluminationSamples::NodeLight* l, const Vec3& axis, double cosHalfAngle) {
   Cap cone = Cap::cone(l->frame.toLocal(axis), cosHalfAngle);
   if (cone.whole()) return l->peak;
   // A cone wholly below a planar node's horizon sees nothing of it (angle to the normal >= 90 + half).
@@ -34,14 +33,28 @@ Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double co
   return glm::max(Rgb(0.0), glm::min(l->peak, boundOver(l->dist, cone)));
 }
 
+/// The bound of a light's parts summed: a sum never exceeds the sum of its terms' bounds.
+Rgb boundOf(const IlluminationSamples::NodeLight* l, const Vec3& axis, double cosHalfAngle) {
+  if (!l) return Rgb(0.0);
+  Rgb b = boundOfPart(l, axis, cosHalfAngle);
+  for (const auto& m : l->more) b += boundOfPart(&m, axis, cosHalfAngle);
+  return b;
+}
+
 }  // namespace
 
 /// A light's intensity toward unit dir, W/sr: nothing below a planar node's horizon, never negative
 /// (spherical harmonics ring below zero around a lobe: none of that is sent).
+hr::Rgb IlluminationSamples::intensityOfPart(const NodeLight& l, const hr::Vec3& dir) {
+  if (hasHorizon(l) && !(glm::dot(l.normal, dir) > 0.0)) return Rgb(0.0);
+  return finiteOrZero(glm::max(Rgb(0.0), eval(l.dist, l.frame.toLocal(dir))));
+}
+
 hr::Rgb IlluminationSamples::intensityOf(const NodeLight* l, const hr::Vec3& dir) {
   if (!l) return Rgb(0.0);
-  if (hasHorizon(*l) && !(glm::dot(l->normal, dir) > 0.0)) return Rgb(0.0);
-  return finiteOrZero(glm::max(Rgb(0.0), eval(l->dist, l->frame.toLocal(dir))));
+  Rgb sum = intensityOfPart(*l, dir);
+  for (const NodeLight& m : l->more) sum += intensityOfPart(m, dir);
+  return sum;
 }
 
 hr::Rgb IlluminationSamples::intensity(hr::NodeId node, const hr::Vec3& dir) const { return intensityOf(light(node), dir); }
@@ -61,7 +74,7 @@ hr::Rgb IlluminationSamples::unshotIntensityBound(hr::NodeId node, const hr::Vec
 hr::Rgb IlluminationSamples::reflectedPower(hr::NodeId leaf) const {
   const NodeLight* l = light(leaf);
   if (!l) return Rgb(0.0);
-  if (std::holds_alternative<HaarDistribution>(l->dist)) return l->power;
+  if (std::holds_alternative<HaarDistribution>(l->dist) && l->more.empty()) return l->power;
   // Fixed bases: the integral of what intensity() returns (clamped at zero, nothing below the
   // horizon), by the midpoint rule on 64 x 128 cells of equal solid angle over the hemisphere.
   Vec3 u, v, n = hasHorizon(*l) ? l->normal : Vec3(0, 0, 1);
@@ -163,7 +176,7 @@ hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye) co
 
 std::size_t IlluminationSamples::coefficients(hr::NodeId leaf) const {
   const NodeLight* l = light(leaf);
-  return l ? glossy::coefficients(l->dist) : 0;
+  return l ? l->totalCoefficients() : 0;
 }
 
 }  // namespace glossy

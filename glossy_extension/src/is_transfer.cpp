@@ -105,6 +105,14 @@ hr::Rgb IlluminationSamples::unshotMeanIntensity(hr::NodeId node, std::span<cons
 
 hr::Rgb IlluminationSamples::meanIntensityOf(const NodeLight* l, std::span<const hr::Vec3> polygon) {
   if (!l || polygon.size() < 3) return Rgb(0.0);
+  // A node mixing bases: the mean of a sum is the sum of the parts' means.
+  Rgb sum = meanIntensityOfPart(*l, polygon);
+  for (const NodeLight& m : l->more) sum += meanIntensityOfPart(m, polygon);
+  return sum;
+}
+
+hr::Rgb IlluminationSamples::meanIntensityOfPart(const NodeLight& one, std::span<const hr::Vec3> polygon) {
+  const NodeLight* l = &one;
   Vec3 local[8];
   std::size_t n = std::min<std::size_t>(polygon.size(), 8);
   for (std::size_t k = 0; k < n; ++k) local[k] = l->frame.toLocal(polygon[k]);
@@ -113,7 +121,7 @@ hr::Rgb IlluminationSamples::meanIntensityOf(const NodeLight* l, std::span<const
   if (!(area > 1e-14)) {
     Vec3 c(0.0);
     for (std::size_t k = 0; k < polygon.size(); ++k) c += polygon[k];
-    return glm::length(c) > 0.0 ? intensityOf(l, glm::normalize(c)) : Rgb(0.0);
+    return glm::length(c) > 0.0 ? intensityOfPart(*l, glm::normalize(c)) : Rgb(0.0);
   }
   Rgb sum(0.0);
   if (const auto* h = std::get_if<HaarDistribution>(&l->dist)) {
@@ -142,7 +150,7 @@ hr::Rgb IlluminationSamples::meanIntensityOf(const NodeLight* l, std::span<const
     Rgb part(0.0);
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j)
-        part += intensityOf(l, sampleTriangle(glm::normalize(a), glm::normalize(b), glm::normalize(c), (i + 0.5) / 4, (j + 0.5) / 4));
+        part += intensityOfPart(*l, sampleTriangle(glm::normalize(a), glm::normalize(b), glm::normalize(c), (i + 0.5) / 4, (j + 0.5) / 4));
     sum += part * (w / 16.0);
   }
   Rgb mean = sum / area;

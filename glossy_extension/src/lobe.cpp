@@ -2,7 +2,9 @@
 // half from the cos^n lobe around the mirror direction (a defensive mixture: uniform directions
 // alone almost never land in a 1-degree lobe), weighted by the mixture's density.
 #include <glossy/lobe.h>
+#include <glossy/reflection.h>
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -15,9 +17,9 @@ using Clock = std::chrono::steady_clock;
 /// Portable uniform [0, 1) from a 64-bit engine (the standard distributions differ between libraries).
 double uniform(std::mt19937_64& g) { return double(g() >> 11) * 0x1.0p-53; }
 
-struct Frame {
+struct AxisFrame {
   Vec3 u, v, w;
-  explicit Frame(const Vec3& z) : w(z) { orthonormalBasis(z, u, v); }
+  explicit AxisFrame(const Vec3& z) : w(z) { orthonormalBasis(z, u, v); }
 };
 
 }  // namespace
@@ -35,20 +37,36 @@ std::vector<PeakHint> Lobe::hints() const {
   return {PeakHint{mirror(wi, n), phongLobeWidth(brdf.exponent)}};
 }
 
+namespace {
+
+/// The lobe of unit irradiance on unit area as a solve's reflection projects it (one sample).
+AnyDistribution projectAsSolved(const Lobe& lobe, const BasisSpec& basis) {
+  hr::IncidentSample s{lobe.wi, Rgb(1.0)};
+  ReflectCounts counts;
+  double n = representableExponent(basis, lobe.brdf.exponent);
+  LobeSet set = makeLobes({&s, 1}, Frame::world(), lobe.n, 1.0, lobe.brdf.specular, n, 0.0, counts);
+  return projectLobes(set, basis, counts);
+}
+
+}  // namespace
+
 LobeReport analyzeLobe(const LobeSpec& spec, const BasisSpec& basis, bool timing, AnyDistribution* out) {
-  Lobe lobe(spec);
+  LobeSpec reference = spec;
+  if (spec.asSolved) reference.diffuse = 0.0;
+  Lobe lobe(reference);
   std::vector<PeakHint> hints = spec.hints ? lobe.hints() : std::vector<PeakHint>{};
   LobeReport r;
+  auto projectOnce = [&] { return spec.asSolved ? projectAsSolved(lobe, basis) : project(basis, lobe, hints); };
 
   auto t0 = Clock::now();
-  AnyDistribution d = project(basis, lobe, hints);
+  AnyDistribution d = projectOnce();
   r.projectMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   if (timing) {
     // Best of several runs, at least 50 ms in all: single projections are too short to time.
     double total = r.projectMs;
     for (int k = 0; k < 20 && total < 50.0; ++k) {
       auto t1 = Clock::now();
-      AnyDistribution again = project(basis, lobe, hints);
+      AnyDistribution again = projectOnce();
       double ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
       r.projectMs = std::min(r.projectMs, ms);
       total += ms;
@@ -58,10 +76,10 @@ LobeReport analyzeLobe(const LobeSpec& spec, const BasisSpec& basis, bool timing
   r.bytes = bytes(d);
 
   // Directions for the error estimates.
-  const int N = 1 << 16;
+  const int N = std::max(spec.errorDirections, 2);
   std::mt19937_64 g(0x10BEull);
   Vec3 m = mirror(lobe.wi, lobe.n);
-  Frame f(m);
+  AxisFrame f(m);
   const double n = spec.exponent;
   std::vector<Vec3> dirs(N);
   std::vector<double> pdf(N);

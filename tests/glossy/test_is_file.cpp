@@ -142,14 +142,20 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   glossy::IlluminationSamples ext;
   expectRefusal(ext, "", saved, "truncated");
   expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
-  std::string v2 = body;
-  v2[4] = 2;  // the format version field
-  expectRefusal(ext, resealed(v2), saved, "format version 2, this build reads version 1");
+  std::string v3 = body;
+  v3[4] = 3;  // the format version field
+  expectRefusal(ext, resealed(v3), saved, "format version 3, this build reads version 2");
+  std::string flag = body;
+  flag[8] = 2;  // the automatic-basis flag: 0 or 1
+  expectRefusal(ext, resealed(flag), saved, "bad automatic-basis flag 2");
+  std::string tag = body;
+  tag[52] = 2;  // the first record's basis (after the 48-byte header and its element index)
+  expectRefusal(ext, resealed(tag), saved, "a sh record in a haar section");
   std::string magic = body;
   magic[0] = 'X';
   expectRefusal(ext, resealed(magic), saved, "not an Illumination Samples section");
   std::string eps = body;
-  for (int i = 12; i < 20; ++i) eps[std::size_t(i)] = char(0xFF);  // dir-eps: a NaN
+  for (int i = 16; i < 24; ++i) eps[std::size_t(i)] = char(0xFF);  // dir-eps: a NaN
   expectRefusal(ext, resealed(eps), saved, "bad dir-eps");
   // Views the section does not fit.
   testhost::FakeHost fewer = saved;

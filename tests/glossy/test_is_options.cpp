@@ -62,8 +62,9 @@ TEST(IsOptions, RefusedValuesNameTheOption) {
     const char* message;  // the whole message
   };
   const Row rows[] = {
-      {{{"basis", "wavelet"}}, "--basis: unknown basis 'wavelet' (valid: haar, tetra, sh)"},
-      {{{"basis", ""}}, "--basis: unknown basis '' (valid: haar, tetra, sh)"},
+      {{{"basis", "wavelet"}}, "--basis: unknown basis 'wavelet' (valid: haar, tetra, sh, auto)"},
+      {{{"basis", ""}}, "--basis: unknown basis '' (valid: haar, tetra, sh, auto)"},
+      {{{"basis", "Auto"}}, "--basis: unknown basis 'Auto' (valid: haar, tetra, sh, auto)"},
       {{{"dir-eps", "-1"}}, "--dir-eps: must be > 0, got -1"},
       {{{"dir-eps", "0"}}, "--dir-eps: must be > 0, got 0"},
       {{{"dir-eps", "abc"}}, "--dir-eps: not a finite number: 'abc'"},

@@ -53,6 +53,7 @@ struct RunInfo {
   int maxLevel = 0, threads = 1, raysPerLink = 0;
   std::uint64_t seed = 0;
   std::vector<std::pair<std::string, double>> extension;  // the extension's own figures
+  std::vector<std::pair<std::string, std::string>> extensionText;  // and its choices, by name
 };
 std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peakRssBytes);
 std::size_t peakRssBytes();

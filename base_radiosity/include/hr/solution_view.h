@@ -18,6 +18,7 @@ class SolutionView final : public HostView {
   std::size_t elementCount() const override { return s_.elements.size(); }
   std::size_t clusterCount() const override { return 0; }
   MaterialInfo material(std::uint32_t id) const override;
+  std::string materialName(std::uint32_t id) const override;
   std::size_t materialCount() const override { return s_.materials.size(); }
 
  private:

@@ -11,6 +11,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace hr {
@@ -32,6 +33,10 @@ struct OptionValue {
 struct StatEntry {
   std::string name;  // a key of stats.json's "extension" object
   double value = 0.0;
+  std::string text;  // when not empty the entry is this text (a choice, e.g. a basis), not value
+  StatEntry() = default;
+  StatEntry(std::string n, double v) : name(std::move(n)), value(v) {}
+  StatEntry(std::string n, std::string t) : name(std::move(n)), text(std::move(t)) {}
 };
 
 class Extension {

@@ -5,6 +5,7 @@
 #include <hr/types.h>
 
 #include <span>
+#include <string>
 
 namespace hr {
 
@@ -45,6 +46,8 @@ class HostView {
   virtual std::size_t clusterCount() const = 0;
   virtual MaterialInfo material(std::uint32_t id) const = 0;
   virtual std::size_t materialCount() const = 0;
+  /// The scene's name of a material, for reports (an extension's choice per material); may be empty.
+  virtual std::string materialName(std::uint32_t) const { return {}; }
 };
 
 }  // namespace hr

@@ -37,7 +37,17 @@ struct BasisSpec {
   int tetraLevel = 3;
   int shOrder = 8;
   int shQuadrature = 0;  // 0: automatic
+  /// --basis auto: each glossy material gets the basis basis_rule.h picks for its exponent (with the
+  /// settings above); `basis` is then only the default of code that projects without a material.
+  bool automatic = false;
   std::string describe() const;
+  /// This spec for one basis (not automatic): what a node of that basis is projected with.
+  BasisSpec with(Basis b) const {
+    BasisSpec s = *this;
+    s.basis = b;
+    s.automatic = false;
+    return s;
+  }
 };
 
 /// Parses "haar", "tetra" or "sh"; throws std::invalid_argument listing the valid names.

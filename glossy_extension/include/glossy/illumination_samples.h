@@ -11,11 +11,13 @@
 //   pass's reflection to both, shot() clears a shooter's unshot light, pull sums both, and a node
 //   whose children did not change since the last pull keeps what it has.
 // Planar nodes keep Haar distributions in their own frame (normal = +z), so the horizon is a cell
-// boundary; clusters keep theirs in the world frame. Per-node data live in side tables indexed by
+// boundary; clusters keep theirs in the world frame. With --basis auto each glossy material has its own
+// basis (basis_rule.h); a node above surfaces of different bases holds one sum per basis (NodeLight::more). Per-node data live in side tables indexed by
 // NodeId; a hook writes only the node it was called for (shot(): its subtree).
 // Radiance Clustering (radiance_clustering.h) derives from this class: it shares the exitant side
 // (distributions, pull, queries, file, statistics) and replaces only how incident light is reflected.
 #pragma once
+#include <glossy/basis_rule.h>
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
 #include <hr/extension.h>
@@ -60,12 +62,15 @@ class IlluminationSamples : public hr::Extension {
   hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye) const override;
   std::size_t coefficients(hr::NodeId leaf) const override;
 
-  std::uint32_t formatVersion() const override { return 1; }
+  std::uint32_t formatVersion() const override { return 2; }
   std::string save() const override;
   void load(std::string_view bytes, const hr::HostView& view) override;
   std::vector<hr::StatEntry> stats() const override;
 
   const BasisSpec& basis() const { return basis_; }
+  /// The basis the leaves of material `id` are projected in (the configured one, or auto's choice);
+  /// valid after attach or load.
+  Basis materialBasis(std::uint32_t id) const;
 
   /// One node's directional exitant light.
   struct NodeLight {
@@ -75,6 +80,12 @@ class IlluminationSamples : public hr::Extension {
     double area = 0.0;      // m^2
     Rgb power{0.0};         // W: Haar, the integral of what intensity() returns; else dist's integral
     Rgb peak{0.0};          // W/sr: a bound of intensity() over all directions
+    /// A node whose subtree mixes bases (--basis auto): its light in each further basis, summed
+    /// exactly within that basis, never re-projected into another (a sharp Haar lobe would smear in
+    /// spherical harmonics, a broad one cost Haar cells and power exactness). Parts hold no parts.
+    std::vector<NodeLight> more;
+    Rgb totalPower() const;
+    std::size_t totalCoefficients() const;
   };
   /// The node's light, or nullptr when it has none (diffuse, dark, or not yet reflected/pulled).
   const NodeLight* light(hr::NodeId node) const;
@@ -89,9 +100,16 @@ class IlluminationSamples : public hr::Extension {
   /// intensity/meanIntensity and their unshot kin return; a null light sends nothing).
   static hr::Rgb intensityOf(const NodeLight* l, const hr::Vec3& dir);
   static hr::Rgb meanIntensityOf(const NodeLight* l, std::span<const hr::Vec3> polygon);
+  /// The same of one part alone (a light's `more` not included).
+  static hr::Rgb intensityOfPart(const NodeLight& l, const hr::Vec3& dir);
+  static hr::Rgb meanIntensityOfPart(const NodeLight& l, std::span<const hr::Vec3> polygon);
   /// Whether element i is a leaf of the attached view (display and the file need leaves only).
   bool isLeaf(std::size_t i) const;
   void finish(NodeLight& l) const;
+  /// Chooses the basis of every material of the view (attach, load).
+  void chooseBases(const hr::HostView& view);
+  /// The sum of lights that all hold one basis, as `node`'s light in that basis.
+  NodeLight sumOneBasis(hr::NodeId node, Basis b, std::span<const NodeLight* const> parts) const;
   /// Sizes every per-node table (they only grow).
   virtual void resize(std::size_t elements, std::size_t clusters);
   /// A leaf's reflection of some samples as a light of its own (frame, area, normal), or nullptr when
@@ -109,6 +127,8 @@ class IlluminationSamples : public hr::Extension {
 
   struct Counters;
   BasisSpec basis_;
+  std::vector<Basis> materialBasis_;  // per material of the view
+  std::vector<std::pair<double, AutoChoice>> autoChoices_;  // by exponent: measured once per solve
   const hr::HostView* view_ = nullptr;
   Table elements_, clusters_;
   Table unshotElements_, unshotClusters_;     // shooting only

@@ -16,6 +16,11 @@ struct LobeSpec {
   double incidentDeg = 30.0;  // angle of wi from the normal (+z)
   double azimuthDeg = 0.0;    // azimuth of wi about the normal, from +x
   bool hints = true;          // Haar: refine around the mirror direction down to the lobe's width
+  /// Project as a solve does (reflection.h: Haar by exact cell integrals, tetrahedron and spherical
+  /// harmonics on a lobe widened to what they hold) and measure against the specular lobe alone (a
+  /// solve's distributions hold rho_s only; the host keeps rho_d): what `--basis auto` is chosen by.
+  bool asSolved = false;
+  int errorDirections = 1 << 16;  // directions of the error estimates (fewer: faster, noisier)
 };
 
 struct LobeReport {
