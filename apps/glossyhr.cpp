@@ -186,14 +186,14 @@ int runSolve(const SolveArgs& a) {
                  st.iterations, st.history.back().residualW / std::max(hr::luminance(st.emittedW), 1e-300));
   // A budget the run could not keep is said loudly too (the outputs are an answer, but not the one
   // asked for): beyond 10 % over it, exit 3.
-  const double overBudget = st.memoryBudgetBytes ? double(hr::peakRssBytes()) / double(st.memoryBudgetBytes) : 0.0;
+  const double peakMB = double(hr::peakRssBytes()) / 1048576.0;
+  const double overBudget = st.memoryBudgetBytes ? peakMB * 1048576.0 / double(st.memoryBudgetBytes) : 0.0;
   if (overBudget > 1.1)
     std::fprintf(stderr, "error: MEMORY BUDGET NOT KEPT: peak resident memory %.1f MB is %.0f %% of --memory-mb %.1f%s\n",
-                 double(hr::peakRssBytes()) / 1048576.0, 100.0 * overBudget, double(st.memoryBudgetBytes) / 1048576.0,
+                 peakMB, 100.0 * overBudget, double(st.memoryBudgetBytes) / 1048576.0,
                  st.memoryBudgetExceeded ? " (the coarsest pass alone needs more)" : "");
   else if (st.memoryBudgetBytes && !a.quiet)
-    std::fprintf(stderr, "  memory budget: peak %.1f MB of %.1f MB; refined down to eps %.3g\n",
-                 double(hr::peakRssBytes()) / 1048576.0, double(st.memoryBudgetBytes) / 1048576.0, st.epsReached);
+    std::fprintf(stderr, "  memory budget: peak %.1f MB of %.1f MB; refined down to eps %.3g\n", peakMB, double(st.memoryBudgetBytes) / 1048576.0, st.epsReached);
   return st.converged && st.energyOk && overBudget <= 1.1 ? 0 : 3;
 }
 

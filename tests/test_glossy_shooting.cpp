@@ -43,11 +43,7 @@ Solve solve(const std::string& scene, hr::SolverOptions o, const char* algorithm
 
 /// Image difference with the light sources left out (both copy their radiance from the scene).
 ref::Metrics lightsMasked(const Solve& a, const Solve& b) {
-  std::vector<std::uint32_t> lights;
-  const hr::Scene& sc = a.solved.scene;
-  for (std::uint32_t o = 0; o < sc.objects.size(); ++o)
-    if (sc.materials[sc.materialIndex.at(sc.objects[o].material)].emitter()) lights.push_back(o);
-  return ref::compare(a.image, b.image, -1, "A", "B", lights);
+  return ref::compare(a.image, b.image, -1, "A", "B", hr::emitterObjects(a.solved.scene));
 }
 
 hr::SolverOptions optionsOf(const std::string& scene, double eps) {

@@ -170,10 +170,11 @@ struct Solver::Impl final : public HostView {
       } while (res > target && it < s.opt.maxIterations && acc.extrapolate());
       const bool finest = budget.frozen() || budget.atRequested();
       if (budget.active()) {
-        budget.afterPass(peakRssBytes(), currentRssBytes(), freeHeapBytes(), h.elements().size());
+        const std::size_t peak = peakRssBytes();
+        budget.afterPass(peak, currentRssBytes(), freeHeapBytes(), h.elements().size());
         char buf[160];
         std::snprintf(buf, sizeof buf, "memory budget: pass %d refined at eps %.3g, peak %.1f MB of %.1f MB%s", pass,
-                      s.opt.eps, double(peakRssBytes()) / 1048576.0, double(s.opt.memoryBudgetBytes) / 1048576.0,
+                      s.opt.eps, double(peak) / 1048576.0, double(s.opt.memoryBudgetBytes) / 1048576.0,
                       budget.frozen() ? "; refinement stops here" : "");
         progress->note(buf);
       }
