@@ -2,8 +2,10 @@
 // patch centroids along the longest axis (a plain top-down BVH), which keeps sizes balanced and the
 // patches of one cluster contiguous in patchOrder so that points can be sampled by area.
 #include <hr/hierarchy.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cassert>
 #include <numeric>
 
 namespace hr {
@@ -96,26 +98,39 @@ std::uint32_t Hierarchy::build(std::uint32_t begin, std::uint32_t end, int leafS
 
 std::uint32_t Hierarchy::subdivide(std::uint32_t ei) {
   if (!elements_[ei].leaf()) return elements_[ei].firstChild;
-  auto polys = elements_[ei].poly.subdivide();
-  std::uint32_t first = static_cast<std::uint32_t>(elements_.size());
-  for (int k = 0; k < 4; ++k) {
-    const Element& par = elements_[ei];
-    Element e;
-    e.poly = polys[k];
-    e.normal = par.normal;
-    e.center = polys[k].centroid();
-    e.area = polys[k].area();
-    e.radius = polys[k].radius();
-    e.patch = par.patch;
-    e.parent = ei;
-    e.level = par.level + 1;
-    elements_.push_back(e);
-  }
-  elements_[ei].firstChild = first;
-  childSlot_.resize(elements_.size(), kNone);
-  childSlot_[ei] = static_cast<std::uint32_t>(childIds_.size());
-  for (int k = 0; k < 4; ++k) childIds_.push_back(NodeId{first + k});
+  const std::uint32_t first = static_cast<std::uint32_t>(elements_.size());
+  subdivideAll(std::span<const std::uint32_t>(&ei, 1));
   return first;
+}
+
+void Hierarchy::subdivideAll(std::span<const std::uint32_t> leaves) {
+  const std::size_t first = elements_.size(), slot = childIds_.size();
+  elements_.resize(first + 4 * leaves.size());
+  childIds_.resize(slot + 4 * leaves.size());
+  childSlot_.resize(elements_.size(), kNone);
+  // Leaf j's children are 4j.. after `first`: every write has its own place.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](const auto& r) {
+    for (std::size_t j = r.begin(); j != r.end(); ++j) {
+      const std::uint32_t ei = leaves[j], c0 = static_cast<std::uint32_t>(first + 4 * j);
+      Element& par = elements_[ei];
+      assert(par.leaf());
+      auto polys = par.poly.subdivide();
+      for (std::uint32_t k = 0; k < 4; ++k) {
+        Element& e = elements_[c0 + k];
+        e.poly = polys[k];
+        e.normal = par.normal;
+        e.center = polys[k].centroid();
+        e.area = polys[k].area();
+        e.radius = polys[k].radius();
+        e.patch = par.patch;
+        e.parent = ei;
+        e.level = par.level + 1;
+        childIds_[slot + 4 * j + k] = NodeId{c0 + k};
+      }
+      par.firstChild = c0;
+      childSlot_[ei] = static_cast<std::uint32_t>(slot + 4 * j);
+    }
+  });
 }
 
 std::span<const NodeId> Hierarchy::children(NodeId n) const {

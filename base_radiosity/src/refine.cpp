@@ -5,8 +5,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <numeric>
 
+#include "counting_sort.h"
 #include "solver_state.h"
 
 namespace hr::detail {
@@ -200,42 +202,87 @@ void writeChildren(const SolverState& s, const Link& l, Action a, Link* out) {
   }
 }
 
-/// Subdivides the elements the decisions name (serial, in link order: element ids then do not
-/// depend on the thread count) and tells the extension about leaves it simulates.
-void subdivideNamed(SolverState& s, const std::vector<Link>& links, const std::vector<Action>& act) {
-  std::size_t before = s.h.elements().size();
+/// Links per block of the parallel bookkeeping: each block is counted, then written, by one task, so
+/// every link's position is known before any thread writes and the order is the serial one.
+constexpr std::size_t kBlock = 2048;
+
+/// Subdivides the elements the decisions name: found per block in parallel, ordered by their first
+/// link (so element ids do not depend on the thread count), split in parallel; then tells the
+/// extension about leaves it simulates.
+void subdivideNamed(SolverState& s, const LinkArray& links, const std::vector<Action>& act) {
+  const std::size_t n = links.size(), blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::uint32_t>> named(blocks);
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    for (std::size_t i = b * kBlock; i != std::min(n, (b + 1) * kBlock); ++i) {
+      NodeId e = act[i] == Action::SplitSender ? links[i].sender : act[i] == Action::SplitReceiver ? links[i].receiver : NodeId{};
+      if (e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf()) named[b].push_back(e.index());
+    }
+  });
+  std::vector<std::uint8_t> seen(s.h.elements().size(), 0);
   std::vector<std::uint32_t> fresh;
-  for (std::size_t i = 0; i < links.size(); ++i) {
-    NodeId n = act[i] == Action::SplitSender ? links[i].sender : act[i] == Action::SplitReceiver ? links[i].receiver : NodeId{};
-    if (n.value == kNone || n.isCluster() || !s.h.element(n.index()).leaf()) continue;
-    s.h.subdivide(n.index());
-    fresh.push_back(n.index());
-  }
-  if (s.h.elements().size() == before) return;
+  for (const auto& block : named)
+    for (std::uint32_t e : block)
+      if (!seen[e]) seen[e] = 1, fresh.push_back(e);
+  if (fresh.empty()) return;
+  s.h.subdivideAll(fresh);
   s.growArrays();
   if (!s.ext) return;
   for (std::uint32_t e : fresh)
     if (s.owned[e]) s.ext->split(NodeId{e}, s.h.children(NodeId{e}));
 }
 
-/// Replaces `links` by the children of the split ones; appends the kept ones to `kept`.
-std::size_t applyDecisions(SolverState& s, std::vector<Link>& links, const std::vector<Action>& act,
-                           std::vector<Link>& kept) {
+/// Resizes a link array, growing its capacity geometrically as push_back would (so the peak is the
+/// serial version's), and moving the old links to a new array in parallel: serially, the copies of
+/// a growing array and their first touch of fresh pages were most of what refinement could not
+/// spread over cores on the Soda Shoppe.
+void growTo(LinkArray& v, std::size_t n) {
+  if (n <= v.capacity()) return v.resize(n);  // nothing is written (FillLater)
+  LinkArray w;
+  w.reserve(std::max(n, 2 * v.capacity()));
+  w.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), kBlock), [&](const auto& r) {
+    std::copy(v.begin() + std::ptrdiff_t(r.begin()), v.begin() + std::ptrdiff_t(r.end()), w.begin() + std::ptrdiff_t(r.begin()));
+  });
+  v.swap(w);
+}
+
+/// Replaces `links` by the children of the split ones; appends the kept ones to `kept`. No array is
+/// kept beyond what the serial version held (the old `links` is freed once its children are
+/// written): a branch that recycled a spare array made it parallel at +42-60 % peak memory.
+std::size_t applyDecisions(SolverState& s, LinkArray& links, const std::vector<Action>& act,
+                           LinkArray& kept) {
   subdivideNamed(s, links, act);
-  std::vector<std::size_t> offset(links.size() + 1, 0);
-  std::size_t splits = 0;
-  for (std::size_t i = 0; i < links.size(); ++i) {
-    offset[i + 1] = offset[i] + childCount(s, links[i], act[i]);
-    splits += offset[i + 1] > offset[i] ? 1 : 0;
-    if (act[i] == Action::Keep) kept.push_back(links[i]);
-  }
-  std::vector<Link> next(offset.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, links.size(), 256), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i)
-      if (offset[i + 1] > offset[i]) writeChildren(s, links[i], act[i], next.data() + offset[i]);
+  const std::size_t n = links.size(), blocks = (n + kBlock - 1) / kBlock;
+  auto range = [&](std::size_t b) { return std::pair(b * kBlock, std::min(n, (b + 1) * kBlock)); };
+  // Per block: kept links, child links and splits; then each block's first positions.
+  std::vector<std::size_t> keepAt(blocks + 1, 0), childAt(blocks + 1, 0), splitsIn(blocks, 0);
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    s.clkRefine.sawThread();
+    auto [lo, hi] = range(b);
+    for (std::size_t i = lo; i != hi; ++i) {
+      std::size_t c = childCount(s, links[i], act[i]);
+      childAt[b + 1] += c;
+      splitsIn[b] += c > 0 ? 1 : 0;
+      keepAt[b + 1] += act[i] == Action::Keep ? 1 : 0;
+    }
+  });
+  std::partial_sum(keepAt.begin(), keepAt.end(), keepAt.begin());
+  std::partial_sum(childAt.begin(), childAt.end(), childAt.begin());
+  const std::size_t keptBefore = kept.size();
+  growTo(kept, keptBefore + keepAt[blocks]);
+  LinkArray next(childAt[blocks]);
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    auto [lo, hi] = range(b);
+    Link* keep = kept.data() + keptBefore + keepAt[b];
+    Link* child = next.data() + childAt[b];
+    for (std::size_t i = lo; i != hi; ++i) {
+      if (act[i] == Action::Keep) *keep++ = links[i];
+      writeChildren(s, links[i], act[i], child);
+      child += childCount(s, links[i], act[i]);
+    }
   });
   links = std::move(next);
-  return splits;
+  return std::accumulate(splitsIn.begin(), splitsIn.end(), std::size_t(0));
 }
 
 /// The receiver pass. The per-link oracle bounds each link's error alone, but a receiver near an
@@ -247,24 +294,26 @@ std::size_t applyDecisions(SolverState& s, std::vector<Link>& links, const std::
 /// to the children (where the per-link oracle sees them again). Only receivers that gained links
 /// since kept[from] are examined (all of them on the first pass of an iteration: senders changed).
 /// Returns the receivers split.
-std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t from, std::vector<Link>& out,
+std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, LinkArray& out,
                          double threshold) {
   const std::size_t E = s.h.elements().size();
   std::vector<std::uint8_t> check(E, 0);
-  for (std::size_t i = from; i < kept.size(); ++i) {
-    NodeId r = kept[i].receiver;
-    if (!r.isCluster() && canSplit(s, r)) check[r.index()] = 1;
-  }
-  // The links of the receivers to check, grouped by receiver (stable: deterministic).
-  std::vector<std::uint32_t> idx;
-  for (std::uint32_t i = 0; i < kept.size(); ++i)
-    if (!kept[i].receiver.isCluster() && check[kept[i].receiver.index()]) idx.push_back(i);
-  std::stable_sort(idx.begin(), idx.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return kept[a].receiver.value < kept[b].receiver.value; });
-  std::vector<std::uint32_t> start;
-  for (std::uint32_t i = 0; i < idx.size(); ++i)
-    if (i == 0 || !(kept[idx[i]].receiver == kept[idx[i - 1]].receiver)) start.push_back(i);
-  start.push_back(static_cast<std::uint32_t>(idx.size()));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(from, kept.size(), 4096), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      NodeId n = kept[i].receiver;
+      // Several links may mark one receiver: every store writes the same 1.
+      if (!n.isCluster() && canSplit(s, n)) std::atomic_ref(check[n.index()]).store(1, std::memory_order_relaxed);
+    }
+  });
+  // The links of the receivers to check, grouped by receiver in link order (a stable sort has one
+  // answer whatever the thread count).
+  auto key = [&](std::size_t i) {
+    NodeId n = kept[i].receiver;
+    return !n.isCluster() && check[n.index()] ? std::size_t(n.index()) : E;
+  };
+  std::vector<std::uint32_t> idx(kept.size());
+  const std::vector<std::uint32_t> start =
+      countingSort(kept.size(), E, key, [&](std::size_t i, std::uint32_t p) { idx[p] = std::uint32_t(i); });
   const std::size_t groups = start.size() - 1;
   std::vector<std::uint8_t> splitIt(groups, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 16), [&](const auto& r) {
@@ -291,8 +340,7 @@ std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t fr
     for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) act[idx[i]] = Action::SplitReceiver;
   }
   if (count == 0) return 0;
-  std::vector<Link> stay;
-  stay.reserve(kept.size());
+  LinkArray stay;
   applyDecisions(s, kept, act, stay);
   out.swap(kept);
   kept.swap(stay);
@@ -302,7 +350,7 @@ std::size_t receiverPass(SolverState& s, std::vector<Link>& kept, std::size_t fr
 }  // namespace
 
 std::size_t refineLinks(SolverState& s) {
-  std::vector<Link> pending = std::move(s.links), kept;
+  LinkArray pending = std::move(s.links), kept;
   s.links.clear();
   kept.reserve(pending.size() + pending.size() / 4);
   std::size_t splitCount = 0, checkedFrom = 0;

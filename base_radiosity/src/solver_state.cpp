@@ -1,5 +1,6 @@
 // Helpers every solver phase shares: array growth after subdivision, a sender's light toward a
 // receiver, grouping links by receiver, points on nodes, and the phase clocks.
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <time.h>
 
@@ -10,6 +11,8 @@
 #include <hr/kernel.h>
 
 #include "solver_state.h"
+
+#include "counting_sort.h"
 
 namespace hr::detail {
 
@@ -42,7 +45,9 @@ void SolverState::growArrays() {
   Bmax.resize(n);
   const bool shoot = opt.iteration == Iteration::Shoot;
   if (shoot) U.resize(n), Umin.resize(n), Umax.resize(n);
-  for (std::size_t i = old; i < n; ++i) {
+  // New elements' parents are older elements: each new entry reads only entries that exist.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(old, n, 1024), [&](const auto& r) {
+  for (std::size_t i = r.begin(); i != r.end(); ++i) {
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
     Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
@@ -54,6 +59,7 @@ void SolverState::growArrays() {
       Umin[i] = Umax[i] = static_cast<float>(luminance(U[i]));
     }
   }
+  });
 }
 
 Rgb SolverState::senderValue(const Link& l) const {
@@ -205,21 +211,18 @@ Rgb SolverState::clusterIntensity(std::uint32_t c, const Vec3& dir) const {
   return I;
 }
 
-void SolverState::groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const {
+void SolverState::groupByReceiver(LinkArray& v, std::vector<std::uint32_t>& start) const {
   // Stable counting sort on a dense key (elements first, then clusters): O(links + nodes), where a
-  // comparison sort of 90-byte links was a tenth of the solve.
-  const std::size_t E = h.elements().size(), C = h.clusters().size();
-  auto key = [&](NodeId n) { return n.isCluster() ? E + n.index() : std::size_t(n.index()); };
-  std::vector<std::uint32_t> count(E + C + 1, 0);
-  for (const Link& l : v) ++count[key(l.receiver) + 1];
-  for (std::size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
-  std::vector<Link> out(v.size());
-  for (const Link& l : v) out[count[key(l.receiver)]++] = l;
+  // comparison sort of 90-byte links was a tenth of the solve; in parallel blocks (counting_sort.h),
+  // with one new array as the serial version had.
+  const std::size_t E = h.elements().size();
+  auto key = [&](std::size_t i) {
+    const NodeId r = v[i].receiver;
+    return r.isCluster() ? E + r.index() : std::size_t(r.index());
+  };
+  LinkArray out(v.size());
+  start = countingSort(v.size(), E + h.clusters().size(), key, [&](std::size_t i, std::uint32_t p) { out[p] = v[i]; });
   v = std::move(out);
-  start.clear();
-  for (std::uint32_t i = 0; i < v.size(); ++i)
-    if (i == 0 || !(v[i].receiver == v[i - 1].receiver)) start.push_back(i);
-  start.push_back(static_cast<std::uint32_t>(v.size()));
 }
 
 /// A point on a node's surface (not lifted: see liftPair in transfer.cpp). Shadow-ray ends are

@@ -9,6 +9,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace hr::detail {
@@ -27,6 +30,30 @@ struct Link {
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
 };
+
+/// Leaves new elements of a link array unwritten: the arrays are filled in parallel (refine.cpp,
+/// grouping), so their pages are first touched by the threads that fill them. Value-initialising
+/// them first was a serial sweep over every new page (a tenth of what refinement could not spread
+/// over cores). Only for types with nothing to construct or destroy.
+template <class T>
+struct FillLater : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = FillLater<U>;
+  };
+  FillLater() = default;
+  template <class U>
+  FillLater(const FillLater<U>&) noexcept {}
+  template <class U>
+  void construct(U*) noexcept {
+    static_assert(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>);
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+using LinkArray = std::vector<Link, FillLater<Link>>;
 
 /// Wall and CPU time of the phases, and how many distinct threads worked in each: a phase that
 /// should be parallel but ran on one thread shows here (and fails a test).
@@ -70,7 +97,7 @@ struct SolverState {
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
   std::vector<std::uint8_t> owned;    // per element: its subtree holds a surface the extension simulates
   std::vector<std::uint8_t> clusterOwned;
-  std::vector<Link> links;            // sorted by receiver after refinement
+  LinkArray links;            // sorted by receiver after refinement
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
   double emittedPower = 0.0;             // luminance, W
   double minArea = 0.0;
@@ -122,7 +149,7 @@ struct SolverState {
   /// unit: the flux its distribution sends into the receiver's solid angle, no more.
   Rgb extensionNearField(const Link& l) const;
   /// Sorts links by receiver (stable counting sort) and rebuilds groupStart.
-  void groupByReceiver(std::vector<Link>& v, std::vector<std::uint32_t>& start) const;
+  void groupByReceiver(LinkArray& v, std::vector<std::uint32_t>& start) const;
   /// A point on a node's surface (clusters: area-sampled over their patches), lifted off it.
   Vec3 pointOn(NodeId n, double u, double w, Rng& rng, Vec3& normal, std::uint32_t* patch = nullptr) const;
   Vec3 lifted(const Element& e, const Vec3& x) const { return x + e.normal * vis.epsilon(); }

@@ -51,6 +51,9 @@ class Hierarchy {
 
   /// Creates the four children of a leaf element; returns the first child's index.
   std::uint32_t subdivide(std::uint32_t element);
+  /// Subdivides distinct leaves: the same ids as subdivide() on each in turn, the children's
+  /// geometry computed in parallel (refinement splits thousands of leaves at once).
+  void subdivideAll(std::span<const std::uint32_t> leaves);
   std::span<const NodeId> children(NodeId n) const;
 
   double radius(NodeId n) const {
