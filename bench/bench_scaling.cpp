@@ -5,6 +5,7 @@
 // ran). Each run is a forked child, so that thread pools and memory start fresh.
 //   bench_scaling [SOURCE_DIR] [--quick]   (--quick: Cornell at 2e-4 and 32 spp only)
 #include <hr/output.h>
+#include <hr/solution.h>
 #include <hr/solver.h>
 #include <ref/path_tracer.h>
 #include <tbb/global_control.h>
@@ -21,8 +22,10 @@
 
 namespace {
 
-constexpr int kPhases = 6;
-const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull", "energy", "total"};
+// "display": the solution reconstructed for display and every camera rendered, after the solve;
+// "total" is the solve's.
+constexpr int kPhases = 7;
+const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull", "energy", "display", "total"};
 
 struct Row {
   double wall[kPhases] = {}, cpu[kPhases] = {};
@@ -50,8 +53,14 @@ Row solveRun(const std::string& scene, double eps, int threads) {
   Row r;
   const hr::PhaseStat* ph[5] = {&st.visibility, &st.refine, &st.gather, &st.pushPull, &st.energy};
   for (int i = 0; i < 5; ++i) r.wall[i] = ph[i]->wall, r.cpu[i] = ph[i]->cpu;
-  r.wall[5] = st.tTotal;
-  r.cpu[5] = cpuNow() - c0;
+  r.wall[6] = st.tTotal;
+  r.cpu[6] = cpuNow() - c0;
+  const double d0 = cpuNow();
+  const auto w0 = std::chrono::steady_clock::now();
+  hr::Solution sol = hr::makeSolution(sc, h, solver.radiosity());
+  for (const hr::Camera& cam : sol.cameras) (void)hr::render(sol, cam);
+  r.wall[5] = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  r.cpu[5] = cpuNow() - d0;
   r.ok = true;
   return r;
 }
@@ -67,14 +76,15 @@ Row traceRun(int spp, int threads) {
   auto w0 = std::chrono::steady_clock::now();
   for (const hr::Camera& cam : sc.cameras) pt.render(cam, o);
   Row r;
-  r.wall[5] = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-  r.cpu[5] = cpuNow() - c0;
+  r.wall[6] = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  r.cpu[6] = cpuNow() - c0;
   r.ok = true;
   return r;
 }
 
 void table(const char* title, const std::vector<int>& threads, const std::vector<Row>& rows, bool phases) {
-  std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall");
+  std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s %8s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall",
+              "peak_MB");
   for (int p = phases ? 0 : kPhases - 1; p < kPhases; ++p)
     for (std::size_t i = 0; i < threads.size(); ++i) {
       const Row& r = rows[i];
@@ -83,8 +93,11 @@ void table(const char* title, const std::vector<int>& threads, const std::vector
         continue;
       }
       double speedup = rows[0].wall[p] / std::max(r.wall[p], 1e-12);
-      std::printf("%-11s %7d %9.3f %8.2f %8.2f %8.2f\n", kPhaseNames[p], threads[i], r.wall[p], speedup,
+      std::printf("%-11s %7d %9.3f %8.2f %8.2f %8.2f", kPhaseNames[p], threads[i], r.wall[p], speedup,
                   speedup / threads[i], r.cpu[p] / std::max(r.wall[p], 1e-12));
+      // Peak resident memory of the whole run (solve and display), on the total's line.
+      if (p == kPhases - 1) std::printf(" %8.1f", r.peakRssMB);
+      std::printf("\n");
     }
 }
 

@@ -18,7 +18,11 @@ namespace hr::detail {
 
 void gatherLinks(SolverState& s) {
   PhaseTimer t(s.clkGather);
-  std::fill(s.Eg.begin(), s.Eg.end(), Rgb(0.0));
+  // Cleared in parallel too: on the Cornell box a sweep's gather is ~2 ms, and a serial clear of
+  // every element's irradiance was a tenth of it.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.Eg.size(), 8192), [&](const auto& r) {
+    std::fill(s.Eg.begin() + std::ptrdiff_t(r.begin()), s.Eg.begin() + std::ptrdiff_t(r.end()), Rgb(0.0));
+  });
   if (s.groupStart.size() < 2) return;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.groupStart.size() - 1, 16), [&](const auto& r) {
     s.clkGather.sawThread();

@@ -12,6 +12,7 @@
 // by construction, but it drew element-sized ripples wherever corners and mean disagree.)
 #include <hr/solution.h>
 #include <hr/visibility.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <unordered_map>
@@ -24,17 +25,19 @@ namespace {
 std::vector<char> hiddenLeaves(const Solution& s) {
   Visibility vis(s.patches);
   std::vector<char> hidden(s.elements.size(), 0);
-  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
-    const auto& e = s.elements[i];
-    if (!e.leaf()) continue;
-    const Vec3 c = e.poly.centroid();
-    if (vis.coverOf(e.patch, c) != kNone) {
-      hidden[i] = 1;
-      continue;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(s.elements.size()), 256), [&](const auto& r) {
+    for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
+      const auto& e = s.elements[i];
+      if (!e.leaf()) continue;
+      const Vec3 c = e.poly.centroid();
+      if (vis.coverOf(e.patch, c) != kNone) {
+        hidden[i] = 1;
+        continue;
+      }
+      SurfaceHit hit = vis.intersectFrom(c, s.patches[e.patch].normal, e.patch);
+      hidden[i] = hit.hit && hit.t < 0.1 * std::sqrt(e.poly.area()) ? 1 : 0;
     }
-    SurfaceHit hit = vis.intersectFrom(c, s.patches[e.patch].normal, e.patch);
-    hidden[i] = hit.hit && hit.t < 0.1 * std::sqrt(e.poly.area()) ? 1 : 0;
-  }
+  });
   return hidden;
 }
 
@@ -71,14 +74,16 @@ void reconstruct(Solution& s) {
   const double cosMax = std::cos(30.0 * kPi / 180.0);
   s.cornerRadiosity.assign(s.elements.size(), {});
   const std::vector<char> hidden = hiddenLeaves(s);
-  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
+  // Each leaf's corners read the map and write their own entries: in parallel, in a fixed order.
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(s.elements.size()), 256), [&](const auto& r) {
+  for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
     const auto& e = s.elements[i];
     if (!e.leaf()) continue;
     const Patch& pe = s.patches[e.patch];
     for (int k = 0; k < e.poly.n; ++k) {
       Rgb sum(0.0);
       double w = 0.0;
-      for (const Entry& en : at[key(e.poly.v[k])]) {
+      for (const Entry& en : at.find(key(e.poly.v[k]))->second) {
         const auto& o = s.elements[en.leaf];
         const Patch& po = s.patches[o.patch];
         if (glm::length(en.pos - e.poly.v[k]) > 2.0 * q) continue;  // hash collision
@@ -92,6 +97,7 @@ void reconstruct(Solution& s) {
       s.cornerRadiosity[i][k] = w > 0.0 ? sum / w : e.radiosity;
     }
   }
+  });
 }
 
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
