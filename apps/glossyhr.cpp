@@ -356,6 +356,9 @@ int main(int argc, char** argv) {
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
   compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids and their bordering pixels, e.g. the lights (ID,ID,...)")
       ->delimiter(',');
+  compare->add_option("--reference-variance", ca.variance,
+                      "B's variance image (REF.var.exr, as `reference` writes it): also report B's own noise and the "
+                      "rel. RMSE with it taken out");
   compare->add_option("-o,--output", ca.out, "false-colour difference image (.png)");
   compare->add_flag("--json", ca.json, "print the metrics as JSON");
   ViewArgs va;

@@ -106,6 +106,7 @@ int runCompare(const CompareArgs& a) {
   }
   hr::Image A = hr::readExr(a.a), B = hr::readExr(a.b);
   ref::Metrics m = ref::compare(A, B, mask, a.a, a.b, exclude);
+  if (!a.variance.empty()) ref::addReferenceNoise(m, A, B, hr::readExr(a.variance), mask, exclude, a.variance);
   if (!a.out.empty()) ref::writeDifferencePng(A, B, a.out, mask, 0.25, exclude);
   if (a.json) {
     nlohmann::json j = {{"a", a.a},
@@ -119,6 +120,10 @@ int runCompare(const CompareArgs& a) {
                         {"mean_a", m.meanA},
                         {"mean_b", m.meanB},
                         {"units", "luminance of radiance, W/(m^2 sr); relative errors against B's mean"}};
+    if (m.noiseKnown) {
+      j["reference_noise_rel_rmse"] = {m.noiseRelRmseLo, m.noiseRelRmseHi};
+      j["rel_rmse_reference_noise_removed"] = {m.relRmseDenoisedLo, m.relRmseDenoisedHi};
+    }
     if (a.mask) j["mask_object_id"] = *a.mask;
     if (!a.exclude.empty()) j["excluded_object_ids"] = a.exclude;
     std::printf("%s\n", j.dump(2).c_str());
@@ -131,6 +136,11 @@ int runCompare(const CompareArgs& a) {
     std::printf("  mean abs error    %.4g W/(m^2 sr)\n", m.meanAbsError);
     std::printf("  max abs error     %.4g W/(m^2 sr)\n", m.maxAbsError);
     std::printf("  mean A / mean B   %.5f\n", m.meanRatio);
+    if (m.noiseKnown) {
+      // A range: B's variance is known per channel, and the channels' noise may or may not be correlated.
+      std::printf("  B's own noise     %.4g - %.4g (rel RMSE of B against its expectation)\n", m.noiseRelRmseLo, m.noiseRelRmseHi);
+      std::printf("  rel RMSE, B's noise taken out  %.4g - %.4g\n", m.relRmseDenoisedLo, m.relRmseDenoisedHi);
+    }
     if (!a.out.empty()) std::printf("  difference        %s (red: A brighter, blue: A darker, +-25 %% of mean B)\n", a.out.c_str());
   }
   return 0;

@@ -17,6 +17,7 @@ int runReference(const ReferenceArgs& a);
 
 struct CompareArgs {
   std::string a, b, out;
+  std::string variance;  // B's variance image (.var.exr): the reference's own noise taken out
   std::optional<long long> mask;
   std::vector<long long> exclude;  // objects left out (the light sources, say)
   bool json = false;

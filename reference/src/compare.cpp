@@ -94,6 +94,36 @@ Metrics compare(const hr::Image& a, const hr::Image& b, long mask, const std::st
   return m;
 }
 
+void addReferenceNoise(Metrics& m, const hr::Image& a, const hr::Image& b, const hr::Image& variance, long mask,
+                       const std::vector<std::uint32_t>& exclude, const std::string& nameVar) {
+  checkPair(a, variance, false, "the candidate", nameVar);
+  const std::size_t P = std::size_t(a.width) * a.height;
+  const std::vector<char> keep = selection(a, mask, exclude);
+  // Luminance is linear: its weights are its values on the unit colours.
+  const double w[3] = {hr::luminance(hr::Rgb(1, 0, 0)), hr::luminance(hr::Rgb(0, 1, 0)), hr::luminance(hr::Rgb(0, 0, 1))};
+  double se = 0.0, independent = 0.0, correlated = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < P; ++i) {
+    if (!keep[i]) continue;
+    const double d = lum(a, i) - lum(b, i);
+    se += d * d;
+    double sumW2V = 0.0, sumWS = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double v = variance.rgb[3 * i + std::size_t(c)];
+      sumW2V += w[c] * w[c] * v;
+      sumWS += w[c] * std::sqrt(v);
+    }
+    independent += sumW2V, correlated += sumWS * sumWS;
+    ++n;
+  }
+  const double N = double(std::max<std::size_t>(n, 1)), B = m.meanB;
+  m.noiseKnown = true;
+  m.noiseRelRmseLo = std::sqrt(independent / N) / B;
+  m.noiseRelRmseHi = std::sqrt(correlated / N) / B;
+  m.relRmseDenoisedLo = std::sqrt(std::max(0.0, se - correlated) / N) / B;
+  m.relRmseDenoisedHi = std::sqrt(std::max(0.0, se - independent) / N) / B;
+}
+
 void writeDifferencePng(const hr::Image& a, const hr::Image& b, const std::string& path, long mask, double range,
                         const std::vector<std::uint32_t>& exclude) {
   Metrics m = compare(a, b, mask, "A", "B", exclude);

@@ -4,10 +4,12 @@
 // a seed fixes the image whatever the thread count. Also the comparison metrics and the CLI's errors.
 #include <gtest/gtest.h>
 #include <hr/kernel.h>
+#include <hr/rng.h>
 #include <ref/compare.h>
 #include <ref/path_tracer.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -220,6 +222,56 @@ TEST(Compare, MetricsOnKnownImages) {
   noIds.objectId.clear();
   EXPECT_THROW(ref::compare(noIds, b, 1), hr::InputError);
   EXPECT_THROW(ref::compare(a, b, 7), hr::InputError) << "no pixel of object 7";
+}
+
+// The reference's noise taken out of the error (compare --reference-variance): a reference made
+// of a known image plus Gaussian noise of a known variance per pixel. A candidate equal to the
+// known image must come out near 0 error though the raw rel. RMSE is the noise's; one 10 % too
+// bright near 0.10. Noise drawn once for all channels (fully correlated) is matched by the range's
+// low end, drawn per channel (independent) by its high end. 80 000 pixels: the estimates' own
+// spread is ~1 % of the noise.
+TEST(Compare, ReferenceNoiseIsTakenOutOfTheError) {
+  const int W = 400, H = 200;
+  const double sigma = 0.2;  // per channel, around a true value of 1
+  hr::Rng rng(11, 0);
+  auto gauss = [&] {
+    const double u = std::max(rng.uniform(), 1e-300), v = rng.uniform();
+    return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * hr::kPi * v);
+  };
+  for (bool correlated : {true, false}) {
+    SCOPED_TRACE(correlated ? "channels fully correlated" : "channels independent");
+    hr::Image truth, ref, var;
+    for (hr::Image* im : {&truth, &ref, &var}) im->width = W, im->height = H, im->rgb.assign(3 * W * H, 0.0f);
+    for (int i = 0; i < W * H; ++i) {
+      const double shared = gauss();
+      for (int c = 0; c < 3; ++c) {
+        const double t = 1.0 + 0.5 * double(i % 7) / 7.0;  // some structure
+        truth.rgb[3 * i + c] = float(t);
+        ref.rgb[3 * i + c] = float(t + sigma * (correlated ? shared : gauss()));
+        var.rgb[3 * i + c] = float(sigma * sigma);
+      }
+    }
+    ref::Metrics m = ref::compare(truth, ref);
+    ref::addReferenceNoise(m, truth, ref, var, -1, {}, "var");
+    ASSERT_TRUE(m.noiseKnown);
+    EXPECT_GT(m.relRmse, 0.1) << "the raw error is the reference's noise";
+    const double truthError = correlated ? m.relRmseDenoisedLo : m.relRmseDenoisedHi;
+    EXPECT_LT(truthError, 0.03) << "a perfect candidate";
+    hr::Image bright = truth;
+    for (float& v : bright.rgb) v *= 1.1f;
+    ref::Metrics b = ref::compare(bright, ref);
+    ref::addReferenceNoise(b, bright, ref, var, -1, {}, "var");
+    const double meanTruth = 1.0 + 0.5 * 3.0 / 7.0;  // mean of t over i % 7
+    double rms = 0.0;
+    for (int k = 0; k < 7; ++k) rms += (1.0 + 0.5 * k / 7.0) * (1.0 + 0.5 * k / 7.0) / 7.0;
+    EXPECT_NEAR(correlated ? b.relRmseDenoisedLo : b.relRmseDenoisedHi, 0.1 * std::sqrt(rms) / meanTruth, 0.01);
+  }
+  hr::Image wrong;
+  wrong.width = 3, wrong.height = 1, wrong.rgb.assign(9, 0.0f);
+  hr::Image one = wrong;
+  one.rgb.assign(9, 1.0f);
+  ref::Metrics m;
+  EXPECT_THROW(ref::addReferenceNoise(m, one, one, hr::Image{}, -1, {}, "var"), hr::InputError) << "sizes differ";
 }
 
 TEST(ReferenceCli, BadInputIsRefusedAndNothingWritten) {

@@ -17,6 +17,14 @@ struct Metrics {
   double maxAbsError = 0.0;    // W/(m^2 sr)
   double meanRatio = 0.0;      // mean a / mean b
   double meanA = 0.0, meanB = 0.0;
+  // With the reference's variance image (the variance of each pixel's mean, per RGB channel, as
+  // `reference` writes it): the reference's own noise as a relative RMSE, and relRmse with that
+  // noise taken out (E[(a - b)^2] = (a - E b)^2 + Var b). The luminance's variance lies between the
+  // channels' taken as independent and as fully correlated, hence a range; "lo" errors go with the
+  // larger noise. A candidate better than the reference's noise shows 0.
+  bool noiseKnown = false;
+  double noiseRelRmseLo = 0.0, noiseRelRmseHi = 0.0;
+  double relRmseDenoisedLo = 0.0, relRmseDenoisedHi = 0.0;
 };
 
 /// Throws hr::InputError when sizes differ, a mask is asked for and an image has no object ids, no
@@ -25,6 +33,11 @@ struct Metrics {
 /// (e.g. the light sources: their edges measure the pixel filters).
 Metrics compare(const hr::Image& a, const hr::Image& b, long mask = -1, const std::string& nameA = "A",
                 const std::string& nameB = "B", const std::vector<std::uint32_t>& exclude = {});
+
+/// Adds the reference's noise to m, from B's variance image (same size, finite, >= 0; else
+/// hr::InputError naming nameVar), over the same pixels as compare().
+void addReferenceNoise(Metrics& m, const hr::Image& a, const hr::Image& b, const hr::Image& variance, long mask,
+                       const std::vector<std::uint32_t>& exclude, const std::string& nameVar);
 
 /// False colour of (a - b) / mean b: blue below, red above, white equal, saturating at +-range;
 /// pixels outside the mask are grey.
