@@ -9,6 +9,7 @@
 #include <hr/solver.h>
 #include <ref/path_tracer.h>
 #include <tbb/global_control.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include <chrono>
@@ -30,6 +31,7 @@ const char* kPhaseNames[kPhases] = {"visibility", "refine", "gather", "push_pull
 struct Row {
   double wall[kPhases] = {}, cpu[kPhases] = {};
   double peakRssMB = 0, cpuSeconds = 0;
+  double solvePeakMB = 0;  // peak RSS when the solve ended, before the display phase
   bool ok = false;
 };
 
@@ -55,6 +57,9 @@ Row solveRun(const std::string& scene, double eps, int threads) {
   for (int i = 0; i < 5; ++i) r.wall[i] = ph[i]->wall, r.cpu[i] = ph[i]->cpu;
   r.wall[6] = st.tTotal;
   r.cpu[6] = cpuNow() - c0;
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  r.solvePeakMB = double(ru.ru_maxrss) / 1024.0;
   const double d0 = cpuNow();
   const auto w0 = std::chrono::steady_clock::now();
   hr::Solution sol = hr::makeSolution(sc, h, solver.radiosity());
@@ -83,8 +88,8 @@ Row traceRun(int spp, int threads) {
 }
 
 void table(const char* title, const std::vector<int>& threads, const std::vector<Row>& rows, bool phases) {
-  std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s %8s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall",
-              "peak_MB");
+  std::printf("\n%s\n%-11s %7s %9s %8s %8s %8s %8s %9s\n", title, "phase", "threads", "wall_s", "speedup", "effic.", "cpu/wall",
+              "peak_MB", "solve_MB");
   for (int p = phases ? 0 : kPhases - 1; p < kPhases; ++p)
     for (std::size_t i = 0; i < threads.size(); ++i) {
       const Row& r = rows[i];
@@ -95,8 +100,9 @@ void table(const char* title, const std::vector<int>& threads, const std::vector
       double speedup = rows[0].wall[p] / std::max(r.wall[p], 1e-12);
       std::printf("%-11s %7d %9.3f %8.2f %8.2f %8.2f", kPhaseNames[p], threads[i], r.wall[p], speedup,
                   speedup / threads[i], r.cpu[p] / std::max(r.wall[p], 1e-12));
-      // Peak resident memory of the whole run (solve and display), on the total's line.
-      if (p == kPhases - 1) std::printf(" %8.1f", r.peakRssMB);
+      // Peak resident memory of the whole run (solve and display) and of the solve alone, on the
+      // total's line: the display could hide a rise in the solve's own peak.
+      if (p == kPhases - 1) std::printf(" %8.1f %9.1f", r.peakRssMB, r.solvePeakMB);
       std::printf("\n");
     }
 }

@@ -23,11 +23,13 @@ std::vector<std::uint32_t> countingSort(std::size_t n, std::size_t keys, Key key
   const std::size_t threads = std::max<std::size_t>(
       1, std::min<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()),
                                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
-  // One block per thread at least; more (for balance) only while the histograms hold no more
-  // counters than there are items: 64 blocks over a 300 k-element scene's keys would take 77 MB.
+  // Up to four blocks per thread (balance), but the histograms hold at most four counters per item
+  // (a tenth of a link's bytes; 64 blocks over a 300 k-element scene's keys would take 77 MB), and
+  // one thread sorts in one block, as the serial version did.
   const std::size_t K = keys + 1;
-  const std::size_t blocks = std::clamp<std::size_t>(std::min(n / 8192, std::max(n / K, threads)), 1,
-                                                     std::min<std::size_t>(4 * threads, 64));
+  const std::size_t blocks = threads == 1 ? 1
+                                          : std::clamp<std::size_t>(std::min(n / 8192, 4 * n / K), 1,
+                                                                    std::min<std::size_t>(4 * threads, 64));
   auto first = [&](std::size_t b) { return n * b / blocks; };
   std::vector<std::uint32_t> pos(blocks * K, 0);  // per block and key: count, then the next position
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {

@@ -76,27 +76,27 @@ void reconstruct(Solution& s) {
   const std::vector<char> hidden = hiddenLeaves(s);
   // Each leaf's corners read the map and write their own entries: in parallel, in a fixed order.
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(s.elements.size()), 256), [&](const auto& r) {
-  for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
-    const auto& e = s.elements[i];
-    if (!e.leaf()) continue;
-    const Patch& pe = s.patches[e.patch];
-    for (int k = 0; k < e.poly.n; ++k) {
-      Rgb sum(0.0);
-      double w = 0.0;
-      for (const Entry& en : at.find(key(e.poly.v[k]))->second) {
-        const auto& o = s.elements[en.leaf];
-        const Patch& po = s.patches[o.patch];
-        if (glm::length(en.pos - e.poly.v[k]) > 2.0 * q) continue;  // hash collision
-        if (glm::dot(po.normal, pe.normal) < cosMax) continue;
-        if (po.object != pe.object || po.material != pe.material) continue;
-        if (hidden[en.leaf] && !hidden[i]) continue;
-        double a = o.poly.area();
-        sum += a * o.radiosity;
-        w += a;
+    for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
+      const auto& e = s.elements[i];
+      if (!e.leaf()) continue;
+      const Patch& pe = s.patches[e.patch];
+      for (int k = 0; k < e.poly.n; ++k) {
+        Rgb sum(0.0);
+        double w = 0.0;
+        for (const Entry& en : at.find(key(e.poly.v[k]))->second) {
+          const auto& o = s.elements[en.leaf];
+          const Patch& po = s.patches[o.patch];
+          if (glm::length(en.pos - e.poly.v[k]) > 2.0 * q) continue;  // hash collision
+          if (glm::dot(po.normal, pe.normal) < cosMax) continue;
+          if (po.object != pe.object || po.material != pe.material) continue;
+          if (hidden[en.leaf] && !hidden[i]) continue;
+          double a = o.poly.area();
+          sum += a * o.radiosity;
+          w += a;
+        }
+        s.cornerRadiosity[i][k] = w > 0.0 ? sum / w : e.radiosity;
       }
-      s.cornerRadiosity[i][k] = w > 0.0 ? sum / w : e.radiosity;
     }
-  }
   });
 }
 

@@ -215,7 +215,10 @@ void subdivideNamed(SolverState& s, const LinkArray& links, const std::vector<Ac
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
     for (std::size_t i = b * kBlock; i != std::min(n, (b + 1) * kBlock); ++i) {
       NodeId e = act[i] == Action::SplitSender ? links[i].sender : act[i] == Action::SplitReceiver ? links[i].receiver : NodeId{};
-      if (e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf()) named[b].push_back(e.index());
+      // A receiver split with all its links is named once per run of them, not once per link.
+      if (e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf() &&
+          (named[b].empty() || named[b].back() != e.index()))
+        named[b].push_back(e.index());
     }
   });
   std::vector<std::uint8_t> seen(s.h.elements().size(), 0);
@@ -340,6 +343,9 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
     for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) act[idx[i]] = Action::SplitReceiver;
   }
   if (count == 0) return 0;
+  // The grouping is not needed any more: freed before the pass's peak (kept, stay and the children).
+  std::vector<std::uint32_t>().swap(idx);
+  std::vector<std::uint8_t>().swap(check);
   LinkArray stay;
   applyDecisions(s, kept, act, stay);
   out.swap(kept);

@@ -45,20 +45,22 @@ void SolverState::growArrays() {
   Bmax.resize(n);
   const bool shoot = opt.iteration == Iteration::Shoot;
   if (shoot) U.resize(n), Umin.resize(n), Umax.resize(n);
-  // New elements' parents are older elements: each new entry reads only entries that exist.
+  // New elements' parents are older elements (refinement subdivides leaves that exist, then grows;
+  // a fresh hierarchy is all roots): each new entry reads only entries that exist.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(old, n, 1024), [&](const auto& r) {
-  for (std::size_t i = r.begin(); i != r.end(); ++i) {
-    const Element& e = h.element(static_cast<std::uint32_t>(i));
-    B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
-    Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
-    owned[i] = e.parent == kNone ? 0 : owned[e.parent];
-    Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
-    if (shoot) {
-      // A root's unshot light is its emission; a child's is its parent's (unshot radiosity per area).
-      U[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : U[e.parent];
-      Umin[i] = Umax[i] = static_cast<float>(luminance(U[i]));
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const Element& e = h.element(static_cast<std::uint32_t>(i));
+      assert(e.parent == kNone || e.parent < old);
+      B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
+      Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
+      owned[i] = e.parent == kNone ? 0 : owned[e.parent];
+      Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
+      if (shoot) {
+        // A root's unshot light is its emission; a child's is its parent's (unshot radiosity per area).
+        U[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : U[e.parent];
+        Umin[i] = Umax[i] = static_cast<float>(luminance(U[i]));
+      }
     }
-  }
   });
 }
 
