@@ -167,6 +167,18 @@ Action decide(const SolverState& s, const Link& l, double threshold) {
   return l.bound > 0.0f ? Action::Keep : Action::Drop;
 }
 
+/// How far over its thresholds a link the oracle splits is (1: at them; the tighter cone bound for a
+/// glossy sender): what a memory cap ranks splits by, so the budget's last bytes go where the error
+/// is largest.
+double urgency(const SolverState& s, const Link& l, double threshold) {
+  const double powerThreshold = std::min(threshold, kPowerTolerance * s.emittedPower);
+  const SenderLuminance value(s, l);
+  double u = std::max(powerError(s, l, false, value) / powerThreshold, placementError(s, l, false, value) / threshold);
+  if (l.vsigma > 0.0f)
+    u = std::max(u, catchingArea(s, l) * value() * double(l.bound) * l.vsigma / visibilityTolerance(s));
+  return u;
+}
+
 /// Number of child links a decision makes.
 std::size_t childCount(const SolverState& s, const Link& l, Action a) {
   switch (a) {
@@ -202,6 +214,42 @@ void writeChildren(const SolverState& s, const Link& l, Action a, Link* out) {
   }
 }
 
+/// The leaf element a decision subdivides, or kNoLeaf.
+std::uint32_t splitLeaf(const SolverState& s, const Link& l, Action a) {
+  NodeId e = a == Action::SplitSender ? l.sender : a == Action::SplitReceiver ? l.receiver : NodeId{};
+  return e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf() ? e.index() : kNoLeaf;
+}
+
+/// Hierarchy::subdivideAll makes four children of every leaf it splits.
+constexpr std::size_t kChildrenPerLeaf = 4;
+
+/// Under a memory budget: when a round's decisions would make more links and elements than the cap
+/// allows, only the most urgent splits that fit are made, and the others keep their link as it is
+/// (evaluated and valid, only coarser). A self-link cannot be kept: it always splits.
+void capRound(SolverState& s, const LinkArray& links, std::vector<Action>& act, std::size_t keptLinks,
+              double threshold) {
+  if (!s.cap.active()) return;
+  const std::size_t n = links.size(), E = s.h.elements().size();
+  std::vector<std::uint8_t> named(E, 0);
+  std::size_t all = keptLinks, none = keptLinks, leaves = 0;
+  std::vector<std::uint32_t> cand, add, leaf;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t c = childCount(s, links[i], act[i]);
+    all += act[i] == Action::Keep ? 1 : c;
+    const bool optional = c > 0 && act[i] != Action::SplitSelf;
+    none += optional || act[i] == Action::Keep ? 1 : c;
+    const std::uint32_t e = splitLeaf(s, links[i], act[i]);
+    if (e != kNoLeaf && !named[e]) named[e] = 1, ++leaves;
+    if (optional) cand.push_back(std::uint32_t(i)), add.push_back(std::uint32_t(c - 1)), leaf.push_back(e);
+  }
+  if (s.cap.fits(all, E + kChildrenPerLeaf * leaves)) return;
+  std::vector<double> urg(cand.size());
+  tbb::parallel_for(std::size_t(0), cand.size(), [&](std::size_t k) { urg[k] = urgency(s, links[cand[k]], threshold); });
+  const std::vector<std::uint8_t> take = fitMostUrgent(s.cap, none, E, urg, add, leaf, kChildrenPerLeaf);
+  for (std::size_t k = 0; k < cand.size(); ++k)
+    if (!take[k]) act[cand[k]] = links[cand[k]].bound > 0.0f ? Action::Keep : Action::Drop, s.capCut = true;
+}
+
 /// Links per block of the parallel bookkeeping: each block is counted, then written, by one task, so
 /// every link's position is known before any thread writes and the order is the serial one.
 constexpr std::size_t kBlock = 2048;
@@ -213,13 +261,10 @@ void subdivideNamed(SolverState& s, const LinkArray& links, const std::vector<Ac
   const std::size_t n = links.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::vector<std::uint32_t>> named(blocks);
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-    for (std::size_t i = b * kBlock; i != std::min(n, (b + 1) * kBlock); ++i) {
-      NodeId e = act[i] == Action::SplitSender ? links[i].sender : act[i] == Action::SplitReceiver ? links[i].receiver : NodeId{};
+    for (std::size_t i = b * kBlock; i != std::min(n, (b + 1) * kBlock); ++i)
       // A receiver split with all its links is named once per run of them, not once per link.
-      if (e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf() &&
-          (named[b].empty() || named[b].back() != e.index()))
-        named[b].push_back(e.index());
-    }
+      if (std::uint32_t e = splitLeaf(s, links[i], act[i]); e != kNoLeaf && (named[b].empty() || named[b].back() != e))
+        named[b].push_back(e);
   });
   std::vector<std::uint8_t> seen(s.h.elements().size(), 0);
   std::vector<std::uint32_t> fresh;
@@ -234,14 +279,23 @@ void subdivideNamed(SolverState& s, const LinkArray& links, const std::vector<Ac
     if (s.owned[e]) s.ext->split(NodeId{e}, s.h.children(NodeId{e}));
 }
 
+/// The capacity a link array of refinement grows to: double, as push_back would; under a memory
+/// budget at once the most links the cap allows. Doubling made the cost per link jump whenever the
+/// kept links outgrew the array (the Cornell box at 140 MB: a 718k-link array and its copy for 381k
+/// links, 113 % of the budget), which no per-link law can predict; an array reserved once is never
+/// copied, and its pages cost memory only once written (FillLater).
+std::size_t grownCapacity(const SolverState& s, std::size_t n, std::size_t capacity) {
+  return std::max(n, s.cap.active() ? s.cap.maxLinks(s.h.elements().size()) : 2 * capacity);
+}
+
 /// Resizes a link array, growing its capacity geometrically as push_back would (so the peak is the
 /// serial version's), and moving the old links to a new array in parallel: serially, the copies of
 /// a growing array and their first touch of fresh pages were most of what refinement could not
 /// spread over cores on the Soda Shoppe.
-void growTo(LinkArray& v, std::size_t n) {
+void growTo(const SolverState& s, LinkArray& v, std::size_t n) {
   if (n <= v.capacity()) return v.resize(n);  // nothing is written (FillLater)
   LinkArray w;
-  w.reserve(std::max(n, 2 * v.capacity()));
+  w.reserve(grownCapacity(s, n, v.capacity()));
   w.resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), kBlock), [&](const auto& r) {
     std::copy(v.begin() + std::ptrdiff_t(r.begin()), v.begin() + std::ptrdiff_t(r.end()), w.begin() + std::ptrdiff_t(r.begin()));
@@ -272,7 +326,7 @@ std::size_t applyDecisions(SolverState& s, LinkArray& links, const std::vector<A
   std::partial_sum(keepAt.begin(), keepAt.end(), keepAt.begin());
   std::partial_sum(childAt.begin(), childAt.end(), childAt.begin());
   const std::size_t keptBefore = kept.size();
-  growTo(kept, keptBefore + keepAt[blocks]);
+  growTo(s, kept, keptBefore + keepAt[blocks]);
   LinkArray next(childAt[blocks]);
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
     auto [lo, hi] = range(b);
@@ -286,6 +340,30 @@ std::size_t applyDecisions(SolverState& s, LinkArray& links, const std::vector<A
   });
   links = std::move(next);
   return std::accumulate(splitsIn.begin(), splitsIn.end(), std::size_t(0));
+}
+
+/// The receiver pass's share of the cap (capRound): receivers to split, most over the threshold
+/// first, while all their links moving down still fit.
+void capReceivers(SolverState& s, const LinkArray& kept, const std::vector<std::uint32_t>& idx,
+                  const std::vector<std::uint32_t>& start, const std::vector<double>& excess,
+                  std::vector<std::uint8_t>& splitIt) {
+  if (!s.cap.active()) return;
+  std::vector<std::uint32_t> cand, add, leaf;
+  std::vector<double> urg;
+  std::size_t allLinks = kept.size(), leaves = 0;
+  for (std::uint32_t g = 0; g < splitIt.size(); ++g) {
+    if (!splitIt[g]) continue;
+    const Link& first = kept[idx[start[g]]];
+    const std::size_t more = (childCount(s, first, Action::SplitReceiver) - 1) * (start[g + 1] - start[g]);
+    const std::uint32_t e = splitLeaf(s, first, Action::SplitReceiver);
+    cand.push_back(g), add.push_back(std::uint32_t(more)), leaf.push_back(e), urg.push_back(excess[g]);
+    allLinks += more, leaves += e != kNoLeaf ? 1 : 0;  // one group per receiver: no leaf twice
+  }
+  const std::size_t E = s.h.elements().size();
+  if (cand.empty() || s.cap.fits(allLinks, E + kChildrenPerLeaf * leaves)) return;
+  const std::vector<std::uint8_t> take = fitMostUrgent(s.cap, kept.size(), E, urg, add, leaf, kChildrenPerLeaf);
+  for (std::size_t k = 0; k < cand.size(); ++k)
+    if (!take[k]) splitIt[cand[k]] = 0, s.capCut = true;
 }
 
 /// The receiver pass. The per-link oracle bounds each link's error alone, but a receiver near an
@@ -318,7 +396,7 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
   const std::vector<std::uint32_t> start =
       countingSort(kept.size(), E, key, [&](std::size_t i, std::uint32_t p) { idx[p] = std::uint32_t(i); });
   const std::size_t groups = start.size() - 1;
-  std::vector<std::uint8_t> splitIt(groups, 0);
+  std::vector<double> excess(groups, 0.0);  // area * (max - min) / threshold
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 16), [&](const auto& r) {
     s.clkRefine.sawThread();
     for (std::size_t g = r.begin(); g != r.end(); ++g) {
@@ -331,9 +409,12 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
         for (int k = 0; k < 5; ++k) e[k] += S * l.at[k];
       }
       auto [lo, hi] = std::minmax_element(e, e + 5);
-      splitIt[g] = s.h.area(recv) * (*hi - *lo) > threshold ? 1 : 0;
+      excess[g] = s.h.area(recv) * (*hi - *lo) / threshold;
     }
   });
+  std::vector<std::uint8_t> splitIt(groups, 0);
+  for (std::size_t g = 0; g < groups; ++g) splitIt[g] = excess[g] > 1.0 ? 1 : 0;
+  capReceivers(s, kept, idx, start, excess, splitIt);
   // Every link of a split receiver becomes a SplitReceiver decision; the rest stay kept, in order.
   std::vector<Action> act(kept.size(), Action::Keep);
   std::size_t count = 0;
@@ -356,9 +437,10 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
 }  // namespace
 
 std::size_t refineLinks(SolverState& s) {
+  s.capCut = false;
   LinkArray pending = std::move(s.links), kept;
   s.links.clear();
-  kept.reserve(pending.size() + pending.size() / 4);
+  kept.reserve(s.cap.active() ? grownCapacity(s, pending.size(), 0) : pending.size() + pending.size() / 4);
   std::size_t splitCount = 0, checkedFrom = 0;
   const double threshold = s.opt.eps * s.emittedPower;
   while (!pending.empty()) {
@@ -379,6 +461,7 @@ std::size_t refineLinks(SolverState& s) {
       s.clkRefine.sawThread();
       for (std::size_t i = r.begin(); i != r.end(); ++i) act[i] = decide(s, pending[i], threshold);
     });
+    capRound(s, pending, act, kept.size(), threshold);
     splitCount += applyDecisions(s, pending, act, kept);
     if (pending.empty()) {
       splitCount += receiverPass(s, kept, checkedFrom, pending, threshold);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <malloc.h>
 #include <string>
 
 #include "convergence.h"
@@ -138,11 +139,19 @@ struct Solver::Impl final : public HostView {
     int grew = 0;  // consecutive iterations whose residual grew
     if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, *this, *progress, st);
     detail::MemoryBudget budget(s.opt.memoryBudgetBytes, s.opt.eps);
+    // glibc raises its mmap threshold each time a large block is freed (up to 32 MB), so link arrays
+    // soon come from the heap, and an array freed there stays resident: a pass that copied its links
+    // twice kept both copies (the Cornell box at 60 MB: 12 MB for 15k more links). A fixed threshold
+    // gives freed link arrays back, so the resident memory the budget steers by is what is live.
+    if (budget.active()) mallopt(M_MMAP_THRESHOLD, 1 << 20);
     budget.start(peakRssBytes());
     for (int pass = 1; s.opt.iteration == Iteration::Gather && it < s.opt.maxIterations; ++pass) {
       progress->phase("pass " + std::to_string(pass) + ": refine");
       s.opt.eps = budget.eps();
+      s.cap = budget.cap();
+      if (budget.active() && s.ext) s.ext->limitDirectionalLevels(budget.directionalLevels());
       std::size_t refined = 0;
+      s.capCut = false;
       if (!budget.frozen()) refined = detail::refineLinks(s);
       if (s.ext) s.ext->attach(*this);
       acc.restart();
@@ -171,14 +180,16 @@ struct Solver::Impl final : public HostView {
       const bool finest = budget.frozen() || budget.atRequested();
       if (budget.active()) {
         const std::size_t peak = peakRssBytes();
-        budget.afterPass(peak, currentRssBytes(), freeHeapBytes(), h.elements().size());
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "memory budget: pass %d refined at eps %.3g, peak %.1f MB of %.1f MB%s", pass,
-                      s.opt.eps, double(peak) / 1048576.0, double(s.opt.memoryBudgetBytes) / 1048576.0,
-                      budget.frozen() ? "; refinement stops here" : "");
+        const bool cut = s.capCut;
+        budget.afterPass(peak, currentRssBytes(), freeHeapBytes(), h.elements().size(), s.links.size(), cut,
+                         s.ext ? s.ext->heldBytes() : 0);
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "memory budget: pass %d refined at eps %.3g%s, peak %.1f MB of %.1f MB%s", pass,
+                      s.opt.eps, cut ? " (cut short: the most urgent splits that fit)" : "", double(peak) / 1048576.0,
+                      double(s.opt.memoryBudgetBytes) / 1048576.0, budget.frozen() ? "; refinement stops here" : "");
         progress->note(buf);
       }
-      if (refined == 0 && res <= target && finest) {
+      if (refined == 0 && res <= target && finest && !budget.directionsSteppedBack()) {
         st.converged = true;
         break;
       }

@@ -7,6 +7,8 @@
 #include <hr/rng.h>
 #include <hr/solver.h>
 
+#include "memory_budget.h"
+
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -100,6 +102,8 @@ struct SolverState {
   LinkArray links;            // sorted by receiver after refinement
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
   double emittedPower = 0.0;             // luminance, W
+  RefineCap cap;          // a memory budget's limit on what refinement may make (memory_budget.h)
+  bool capCut = false;    // the cap stopped some split during the latest refinement
   double minArea = 0.0;
   std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
   std::atomic<std::uint64_t> samples{0};  // Illumination Samples handed to the gather hook (per iteration)

@@ -20,12 +20,24 @@ bool usableNormal(const Vec3& n) { return hr::allFinite(n) && std::abs(glm::leng
 
 }  // namespace
 
-IlluminationSamples::IlluminationSamples() : basis_(defaultIsBasis()), counters_(std::make_unique<Counters>()) {}
+IlluminationSamples::IlluminationSamples()
+    : basis_(defaultIsBasis()), counters_(std::make_unique<Counters>()), finestLevel_(basis_.haar.maxLevel) {}
 IlluminationSamples::~IlluminationSamples() = default;
 
 std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOptionSpecs(); }
 
-void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) { basis_ = parseIsOptions(values); }
+void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) {
+  basis_ = parseIsOptions(values);
+  finestLevel_ = basis_.haar.maxLevel;
+}
+
+void IlluminationSamples::limitDirectionalLevels(int levels) {
+  // Only Haar distributions have levels to steer. --basis auto weighed each material's bases at the
+  // configured levels (autoChoice): other levels would undo the ground of its choice.
+  if (basis_.automatic || basis_.basis != Basis::Haar) return;
+  const int lo = basis_.haar.minLevel;
+  basis_.haar.maxLevel = levels < 0 ? finestLevel_ : std::clamp(lo + levels, lo, finestLevel_);
+}
 
 bool IlluminationSamples::simulates(const hr::MaterialInfo& m) const {
   return hr::maxComponent(m.specular) > 0.0 && std::isfinite(m.exponent) && m.exponent >= 0.0;
@@ -310,6 +322,13 @@ double IlluminationSamples::held() const {
 
 void IlluminationSamples::notePeak(double now) { peakHeld_ = std::max(peakHeld_, now); }
 
+std::size_t IlluminationSamples::heldBytes() const {
+  // The statistics' figure, so the two never disagree; once per pass, like the statistics' scan.
+  for (const hr::StatEntry& e : stats())
+    if (e.name == "bytes") return std::size_t(e.value);
+  return 0;
+}
+
 std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   double distributions = 0, leafDistributions = 0, coefficientsTotal = 0, coefficientsPeak = 0, bytesTotal = 0;
   double mixedNodes = 0;  // parts beyond the first in nodes mixing bases
@@ -360,6 +379,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"reflect_cpu_seconds_summed_over_threads", v(c.reflectCpuNs) * 1e-9},
       {"pull_cpu_seconds_summed_over_threads", v(c.pullCpuNs) * 1e-9},
       {"distribution_parts_in_other_bases", mixedNodes},
+      {"dir_max_level_used", double(basis_.haar.maxLevel)},  // below --dir-max-level under a tight memory budget
   };
   // Which basis each glossy material's leaves hold (the choice --basis auto made, or the one given).
   if (view_)

@@ -57,6 +57,15 @@ class Extension {
   /// sender is never dark. Serial.
   virtual void split(NodeId /*parent*/, std::span<const NodeId> /*children*/) {}
 
+  /// A memory budget (the host's --memory-mb) allows `levels` levels of directional subdivision above
+  /// the extension's coarsest, or its configured finest when levels < 0: directional detail follows
+  /// the spatial threshold the budget has reached, so a tight budget does not spend its memory on
+  /// fine lobes over coarse elements. Serial, before a pass; never called without a budget.
+  virtual void limitDirectionalLevels(int /*levels*/) {}
+  /// Bytes the extension's data hold now: a memory budget reserves what writing them out (solution
+  /// file, display) will cost. Serial, between passes.
+  virtual std::size_t heldBytes() const { return 0; }
+
   // Sending: const, concurrent with each other, never during the phases below.
   /// The extension's share of a node's exitant radiant intensity toward unit dir, W/sr.
   virtual Rgb intensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }

@@ -39,6 +39,8 @@ class IlluminationSamples : public hr::Extension {
   bool simulates(const hr::MaterialInfo& m) const override;
   void attach(const hr::HostView& view) override;
   void split(hr::NodeId parent, std::span<const hr::NodeId> children) override;
+  void limitDirectionalLevels(int levels) override;
+  std::size_t heldBytes() const override;
 
   hr::Rgb intensity(hr::NodeId node, const hr::Vec3& dir) const override;
   hr::Rgb meanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
@@ -136,6 +138,7 @@ class IlluminationSamples : public hr::Extension {
   std::vector<Rgb> change_;  // per element, W: |power change| of the latest reflect (leaves)
   std::unique_ptr<Counters> counters_;
   double peakHeld_ = 0.0;
+  int finestLevel_;  // the configured --dir-max-level; basis_.haar.maxLevel may be held below it (budget)
 };
 
 }  // namespace glossy
