@@ -132,11 +132,12 @@ ImageError against(const hr::Image& a, const hr::Image& ref, std::uint32_t lamp)
 }
 
 // The Cornell box against `glossyhr reference` (512 spp at 160 x 160: the mean's standard error is
-// about 1e-4), the lamp masked. Measured: mean ratio 0.990 / 0.995 and worst object 2.4 / 1.3 % at
-// eps 2e-4 / 5e-5 (at 320 x 320 against 2048 spp, eps 1e-5: 0.996). Flat and smooth renders agree,
-// so the remaining error is the solution's; it falls with eps and does not stall (it did at 0.990).
-// The goal at the default eps, 0.5 % and 1 % per object, is NOT met yet: the bounds below
-// hold the measured figures, so that a regression shows. About 30 s: a path-traced reference.
+// about 1e-4), the lamp masked. Before inner senders sent their children's radiosity fitted where
+// the receiver sees them (docs/solver.md, "Display reconstruction") it measured mean ratio 0.990 /
+// 0.994 and worst object -2.4 % / -1.3 % at eps 2e-4 / 5e-5. Measured now: 0.9954 / 0.9985, worst
+// object (the tall block, its foot dark: floor leaves under the blocks' feet) -1.87 % / -0.86 %.
+// The mean meets the 0.5 % at the default eps; the worst object does not meet 1 % there and
+// its bound holds the measured figure; at 5e-5 both are met, and the error falls with eps. ~30 s.
 TEST(DisplayBias, CornellConvergesToThePathTracer) {
   auto dir = testutil::testDir();
   std::string json = hr::kDefaultSceneJson;
@@ -157,12 +158,12 @@ TEST(DisplayBias, CornellConvergesToThePathTracer) {
     std::printf("eps %s: mean ratio %.4f, worst object %u: %.2f %%\n", eps[k], err[k].meanRatio, err[k].worstId,
                 100 * err[k].worstObject);
   }
-  EXPECT_NEAR(err[0].meanRatio, 1.0, 0.0125);
-  EXPECT_LT(err[0].worstObject, 0.03);
+  EXPECT_NEAR(err[0].meanRatio, 1.0, 0.005);
+  EXPECT_LT(err[0].worstObject, 0.02);
   EXPECT_LT(std::abs(err[1].meanRatio - 1.0), std::abs(err[0].meanRatio - 1.0)) << "the error falls with eps";
   EXPECT_LT(err[1].worstObject, err[0].worstObject);
-  EXPECT_NEAR(err[1].meanRatio, 1.0, 0.0075);
-  EXPECT_LT(err[1].worstObject, 0.02);
+  EXPECT_NEAR(err[1].meanRatio, 1.0, 0.005);
+  EXPECT_LT(err[1].worstObject, 0.01);
 }
 
 }  // namespace

@@ -134,11 +134,46 @@ class PushPull {
   }
 
  private:
-  /// Pushes irradiance down an element subtree and pulls radiosity up; returns area * B. In a
+  /// What an element subtree pulls up: area * B; area * what it sends (B, or U while shooting); and
+  /// the first moment of what it sends about its area centroid, integral of B (y - g) dA per world
+  /// axis (0 for a leaf: constant over it).
+  struct Pulled {
+    Rgb power{0.0}, sent{0.0};
+    Rgb moment[3] = {Rgb(0.0), Rgb(0.0), Rgb(0.0)};
+  };
+
+  /// The least-squares linear fit of what an inner element's leaves send from its pulled first
+  /// moment: gradient = (second moment of area)^-1 first moment, along planeAxes.
+  void fitGradient(std::uint32_t e, const Pulled& p) {
+    const Element& el = s_.h.element(e);
+    const auto [t1, t2] = planeAxes(el.poly, el.normal);
+    const Vec3 g = el.poly.areaCentroid();
+    // Second moment of area about g in (t1, t2), a fan of triangles: each adds A/12 (sum of p p^T + s s^T).
+    double m11 = 0.0, m12 = 0.0, m22 = 0.0;
+    auto at = [&](int i) { return glm::dvec2(glm::dot(el.poly.v[i] - g, t1), glm::dot(el.poly.v[i] - g, t2)); };
+    for (int i = 1; i + 1 < el.poly.n; ++i) {
+      const glm::dvec2 a = at(0), b = at(i), c = at(i + 1), sum = a + b + c;
+      const double w = std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 24.0;  // area / 12
+      m11 += w * (a.x * a.x + b.x * b.x + c.x * c.x + sum.x * sum.x);
+      m12 += w * (a.x * a.y + b.x * b.y + c.x * c.y + sum.x * sum.y);
+      m22 += w * (a.y * a.y + b.y * b.y + c.y * c.y + sum.y * sum.y);
+    }
+    const double det = m11 * m22 - m12 * m12;
+    if (!(det > 0.0)) {
+      s_.gradU[e] = s_.gradV[e] = Rgb(0.0);
+      return;
+    }
+    const Rgb b1 = p.moment[0] * t1.x + p.moment[1] * t1.y + p.moment[2] * t1.z;
+    const Rgb b2 = p.moment[0] * t2.x + p.moment[1] * t2.y + p.moment[2] * t2.z;
+    s_.gradU[e] = (m22 * b1 - m12 * b2) / det;
+    s_.gradV[e] = (m11 * b2 - m12 * b1) / det;
+  }
+
+  /// Pushes irradiance down an element subtree and pulls radiosity up (Pulled). In a
   /// subtree the extension simulates, `samples` carries the Illumination Samples that reached the
   /// element from above (on its plane): the element adds its own links' samples, a leaf is
   /// reflected, an inner element pulled after its children (one traversal for all of them).
-  Rgb element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
+  Pulled element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
     Rgb total = down + s_.Eg[e];
     const Element& el = s_.h.element(e);
     // Shooting: the pass's irradiance adds to what arrived before.
@@ -147,7 +182,7 @@ class PushPull {
     if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
         if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
-    Rgb result;
+    Pulled result;
     if (el.leaf()) {
       if (shoot_) {
         // What the pass brought is reflected once: it joins the radiosity and waits to be shot.
@@ -161,12 +196,13 @@ class PushPull {
       s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
       if (samples && shoot_ && !samples->empty()) s_.ext->reflectShot(NodeId{e}, *samples);
       if (samples && !shoot_) s_.ext->reflect(NodeId{e}, *samples);
-      result = s_.B[e] * el.area;
+      result.power = s_.B[e] * el.area;
+      result.sent = shoot_ ? s_.U[e] * el.area : result.power;
     } else {
       Rgb sum(0.0), unshot(0.0);
       float lo = std::numeric_limits<float>::max(), hi = 0.0f;
       float ulo = std::numeric_limits<float>::max(), uhi = 0.0f;
-      Rgb part[4];
+      Pulled part[4];
       if (samples) {
         // A simulated subtree: reflection costs far more than a task, so the four children run in
         // parallel, each with its own copy of the samples so far (summed below in child order).
@@ -178,9 +214,13 @@ class PushPull {
       } else {
         for (std::uint32_t k = 0; k < 4; ++k) part[k] = element(el.firstChild + k, total, nullptr);
       }
+      const Vec3 g = el.poly.areaCentroid();
       for (std::uint32_t k = 0; k < 4; ++k) {
         const std::uint32_t c = el.firstChild + k;
-        sum += part[k];
+        sum += part[k].power;
+        const Vec3 d = s_.h.element(c).poly.areaCentroid() - g;
+        result.sent += part[k].sent;
+        for (int a = 0; a < 3; ++a) result.moment[a] += part[k].moment[a] + part[k].sent * d[a];
         lo = std::min(lo, s_.Bmin[c]);
         hi = std::max(hi, s_.Bmax[c]);
         if (shoot_) {
@@ -193,7 +233,8 @@ class PushPull {
       s_.Bmin[e] = lo, s_.Bmax[e] = hi;
       if (shoot_) s_.U[e] = unshot / el.area, s_.Umin[e] = ulo, s_.Umax[e] = uhi;
       if (samples) s_.ext->pull(NodeId{e}, s_.h.children(NodeId{e}));
-      result = sum;
+      result.power = sum;
+      fitGradient(e, result);
     }
     if (samples) samples->resize(mark);
     return result;

@@ -31,7 +31,17 @@ struct Link {
   float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
+  // Where in each sender child the receiver sees it: the visible-kernel-weighted mean of the rays'
+  // ends about the child's area centroid, along the child's plane axes, in 1/127 of its radius.
+  std::int8_t seen[4][2] = {};
 };
+
+/// An element's in-plane axes, along its first edge and across it: the frame of its radiosity
+/// gradient (SolverState::gradU, gradV) and of the links' `seen` offsets.
+inline std::pair<Vec3, Vec3> planeAxes(const Polygon& p, const Vec3& n) {
+  const Vec3 t1 = glm::normalize(p.v[1] - p.v[0]);
+  return {t1, glm::cross(n, t1)};
+}
 
 /// Leaves new elements of a link array unwritten: the arrays are filled in parallel (refine.cpp,
 /// grouping), so their pages are first touched by the threads that fill them. Value-initialising
@@ -89,6 +99,9 @@ struct SolverState {
   Extension* ext;
 
   std::vector<Rgb> B, Eg, Et;         // per element: radiosity, gathered and total irradiance
+  // Per element: the least-squares linear fit of what its leaves send (radiosity; unshot radiosity
+  // while shooting) about its area centroid, W/m^2 per m along planeAxes (0 for leaves; push_pull.cpp).
+  std::vector<Rgb> gradU, gradV;
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
   // Shooting only (empty when gathering): per element, unshot radiosity (W/m^2) and its leaves' range.
   std::vector<Rgb> U;

@@ -75,11 +75,13 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   // that the visible kernel weight of each child is known (see senderValue).
   const auto kidsPoly = se.poly.subdivide();
   const int perKid = (K + 3) / 4;
+  Vec3 ends[kMaxRays];
   int n = 0;
   for (int k = 0; k < K; ++k) {
     Vec3 x = re.poly.sample((k + rr.uniform()) / K, rr.uniform());
     const Polygon& kid = kidsPoly[k % 4];
     Vec3 y = kid.sample((k / 4 + rs.uniform()) / perKid, rs.uniform());
+    ends[k] = y;
     val[k] = pointKernel(x, re.normal, y, se.normal) * (4.0 * kid.area() / se.area);
     if (val[k] > 0.0 && (s.vis.coverOf(re.patch, x) != kNone || s.vis.coverOf(se.patch, y) != kNone)) {
       // An end under a coplanar patch (coplanar.h) is hidden: a blocked ray without tracing it.
@@ -102,15 +104,30 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   double wsum = 0.0, vsum = 0.0;
   int nvis = 0;
   double kidw[4] = {0, 0, 0, 0};
+  Vec3 kidp[4] = {Vec3(0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0)};
   for (int k = 0, j = 0; k < K; ++k) {
     if (val[k] <= 0.0) continue;
     bool b = blocked[j++];
     wsum += val[k];
     vsum += b ? 0.0 : val[k];
     kidw[k % 4] += b ? 0.0 : val[k];
+    kidp[k % 4] += b ? Vec3(0.0) : val[k] * ends[k];
     nvis += b ? 0 : 1;
   }
   for (int k = 0; k < 4; ++k) l.wkid[k] = static_cast<float>(wsum > 0.0 ? kidw[k] / wsum : 0.0);
+  // Where the receiver sees each child: with the children's radiosity fits (push_pull.cpp) this
+  // carries the same estimate, visible kernel over the ray ends, below the children's means.
+  for (int k = 0; k < 4; ++k) {
+    if (kidw[k] <= 0.0) continue;
+    const Polygon& kid = kidsPoly[k];
+    const auto [t1, t2] = planeAxes(kid, se.normal);
+    const Vec3 off = kidp[k] / kidw[k] - kid.areaCentroid();
+    const double r = kid.radius();
+    for (int a = 0; a < 2; ++a) {
+      const double u = r > 0.0 ? glm::dot(off, a == 0 ? t1 : t2) / r : 0.0;
+      l.seen[k][a] = static_cast<std::int8_t>(std::lround(127.0 * std::clamp(u, -1.0, 1.0)));
+    }
+  }
   double V = wsum > 0.0 ? vsum / wsum : 1.0;
   l.coef = static_cast<float>(fmean * V);
   // The bound is the unoccluded transfer: a link whose few rays were all blocked may still be
