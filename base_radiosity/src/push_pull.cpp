@@ -146,7 +146,10 @@ class PushPull {
   /// moment: gradient = (second moment of area)^-1 first moment, along planeAxes.
   void fitGradient(std::uint32_t e, const Pulled& p) {
     const Element& el = s_.h.element(e);
-    const auto [t1, t2] = planeAxes(el.poly, el.normal);
+    // Plain variables, not a structured binding: the lambda below captures them, which Debian's
+    // clang 14 (the fuzz build) refuses for bindings.
+    const std::pair<Vec3, Vec3> axes = planeAxes(el.poly, el.normal);
+    const Vec3 t1 = axes.first, t2 = axes.second;
     const Vec3 g = el.poly.areaCentroid();
     // Second moment of area about g in (t1, t2), a fan of triangles: each adds A/12 (sum of p p^T + s s^T).
     double m11 = 0.0, m12 = 0.0, m22 = 0.0;
