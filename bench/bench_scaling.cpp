@@ -102,7 +102,10 @@ void table(const char* title, const std::vector<int>& threads, const std::vector
                   speedup / threads[i], r.cpu[p] / std::max(r.wall[p], 1e-12));
       // Peak resident memory of the whole run (solve and display) and of the solve alone, on the
       // total's line: the display could hide a rise in the solve's own peak.
-      if (p == kPhases - 1) std::printf(" %8.1f %9.1f", r.peakRssMB, r.solvePeakMB);
+      if (p == kPhases - 1) {
+        std::printf(" %8.1f", r.peakRssMB);
+        if (r.solvePeakMB > 0.0) std::printf(" %9.1f", r.solvePeakMB);  // the tracer has no solve
+      }
       std::printf("\n");
     }
 }
