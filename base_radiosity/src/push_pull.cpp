@@ -143,14 +143,14 @@ class PushPull {
   };
 
   /// The least-squares linear fit of what an inner element's leaves send from its pulled first
-  /// moment: gradient = (second moment of area)^-1 first moment, along planeAxes.
-  void fitGradient(std::uint32_t e, const Pulled& p) {
+  /// moment about its area centroid g: gradient = (second moment of area)^-1 first moment, along
+  /// planeAxes.
+  void fitGradient(std::uint32_t e, const Vec3& g, const Pulled& p) {
     const Element& el = s_.h.element(e);
     // Plain variables, not a structured binding: the lambda below captures them, which Debian's
     // clang 14 (the fuzz build) refuses for bindings.
     const std::pair<Vec3, Vec3> axes = planeAxes(el.poly, el.normal);
     const Vec3 t1 = axes.first, t2 = axes.second;
-    const Vec3 g = el.poly.areaCentroid();
     // Second moment of area about g in (t1, t2), a fan of triangles: each adds A/12 (sum of p p^T + s s^T).
     double m11 = 0.0, m12 = 0.0, m22 = 0.0;
     auto at = [&](int i) { return glm::dvec2(glm::dot(el.poly.v[i] - g, t1), glm::dot(el.poly.v[i] - g, t2)); };
@@ -237,7 +237,7 @@ class PushPull {
       if (shoot_) s_.U[e] = unshot / el.area, s_.Umin[e] = ulo, s_.Umax[e] = uhi;
       if (samples) s_.ext->pull(NodeId{e}, s_.h.children(NodeId{e}));
       result.power = sum;
-      fitGradient(e, result);
+      fitGradient(e, g, result);
     }
     if (samples) samples->resize(mark);
     return result;

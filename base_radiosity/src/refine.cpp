@@ -437,7 +437,6 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
 }  // namespace
 
 std::size_t refineLinks(SolverState& s) {
-  s.capCut = false;
   LinkArray pending = std::move(s.links), kept;
   s.links.clear();
   kept.reserve(s.cap.active() ? grownCapacity(s, pending.size(), 0) : pending.size() + pending.size() / 4);

@@ -116,7 +116,7 @@ struct SolverState {
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
   double emittedPower = 0.0;             // luminance, W
   RefineCap cap;          // a memory budget's limit on what refinement may make (memory_budget.h)
-  bool capCut = false;    // the cap stopped some split during the latest refinement
+  bool capCut = false;    // the cap stopped some split during the latest refinement (reset per pass by the solver)
   double minArea = 0.0;
   std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
   std::atomic<std::uint64_t> samples{0};  // Illumination Samples handed to the gather hook (per iteration)
