@@ -1,6 +1,6 @@
 // `--host bright`: the tessellating host in base_radiosity, with the extension (if any) through its
 // hooks.
-#include <hr/camera.h>
+#include <hr/auto_camera.h>
 #include <hr/geometry.h>
 #include <hr/hierarchy.h>
 #include <hr/visibility.h>
@@ -30,10 +30,10 @@ HostResult solveBright(HostJob& job) {
   auto run = std::make_shared<BrightRun>();
   run->hier = std::make_unique<hr::Hierarchy>(std::move(patches));
   dropUnneededExtension(job);  // after tessellation: mesh files add their materials
-  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(run->hier->bounds()));
-  job.ready();
   job.progress.phase("building visibility");
   run->vis = std::make_unique<hr::Visibility>(run->hier->patches());
+  if (job.scene.cameras.empty()) job.scene.cameras.push_back(hr::autoCamera(job.scene, run->hier->patches(), *run->vis));
+  job.ready();
   run->solver = std::make_unique<hr::Solver>(job.scene, *run->hier, *run->vis, job.opt, job.ext.get(), &job.progress);
   HostResult r;
   r.st = run->solver->solve();

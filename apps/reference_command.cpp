@@ -3,7 +3,7 @@
 // against (non-finite pixels, an all-black reference) instead of reporting a misleading 0.
 #include "reference_command.h"
 
-#include <hr/camera.h>
+#include <hr/auto_camera.h>
 #include <hr/output_set.h>
 #include <ref/compare.h>
 #include <ref/path_tracer.h>
@@ -36,10 +36,10 @@ int runReference(const ReferenceArgs& a) {
   hr::TessellationReport rep;
   std::vector<hr::Patch> patches = hr::buildPatches(scene, rep);
   if (rep.droppedZeroArea) std::fprintf(stderr, "warning: dropped %zu zero-area face(s)\n", rep.droppedZeroArea);
-  hr::Aabb box;
-  for (const auto& p : patches)
-    for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
-  if (scene.cameras.empty()) scene.cameras.push_back(hr::autoCamera(box));
+  if (scene.cameras.empty()) {
+    hr::Visibility probe(patches);  // the solver's hosts choose with the same rule
+    scene.cameras.push_back(hr::autoCamera(scene, patches, probe));
+  }
   std::vector<std::string> names;
   for (const hr::Camera& c : scene.cameras) names.insert(names.end(), {c.name + ".exr", c.name + ".png", c.name + ".var.exr"});
   names.push_back("stats.json");

@@ -3,6 +3,7 @@
 // surfaces, a diffuse scene's bits unchanged by the extension, saved solutions that render from any
 // camera like a fresh solve, hard cases, and thread independence.
 #include <gtest/gtest.h>
+#include <hr/auto_camera.h>
 #include <hr/camera.h>
 #include <hr/output.h>
 #include <hr/rng.h>
@@ -228,7 +229,7 @@ TEST(GlossyTransport, HardCasesStayFiniteAndBalanced) {
     expectBalanced(s, 0.01, what);
     // Its images from the saved solution are finite too, the edge-on view included.
     hr::Solution sol = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
-    if (sol.cameras.empty()) sol.cameras.push_back(hr::autoCamera(s.h->bounds()));
+    if (sol.cameras.empty()) sol.cameras.push_back(hr::autoCamera(s.scene, s.h->patches(), *s.vis));
     for (const hr::Camera& cam : sol.cameras) {
       hr::Image img = hr::render(sol, cam, ext.get());
       for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v));

@@ -32,17 +32,4 @@ class CameraRays {
   int width_, height_;
 };
 
-/// A camera that frames the whole scene from the +z side, for scenes that bring none.
-inline Camera autoCamera(const Aabb& box) {
-  Camera c;
-  c.name = "auto";
-  c.lookAt = box.center();
-  double r = 0.5 * box.diagonal();
-  c.eye = c.lookAt + Vec3(0.3 * r, 0.4 * r, 2.6 * r);
-  c.fovYDeg = 45;
-  c.width = 320;
-  c.height = 240;
-  return c;
-}
-
 }  // namespace hr
