@@ -356,6 +356,8 @@ int main(int argc, char** argv) {
   compare->add_option("--mask", ca.mask, "compare only pixels showing this object id (file order)");
   compare->add_option("--exclude", ca.exclude, "leave out pixels showing these object ids and their bordering pixels, e.g. the lights (ID,ID,...)")
       ->delimiter(',');
+  compare->add_option("--exclude-lights", ca.lightsOf,
+                      "leave out the emitting objects of this scene (JSON or MGF; the one the images show), as --exclude does");
   compare->add_option("--reference-variance", ca.variance,
                       "B's variance image (REF.var.exr, as `reference` writes it): also report B's own noise and the "
                       "rel. RMSE with it taken out");

@@ -104,6 +104,11 @@ int runCompare(const CompareArgs& a) {
     checkFlag("--exclude", std::optional<long long>(id), hr::limits::kObjectId);
     exclude.push_back(static_cast<std::uint32_t>(id));
   }
+  if (!a.lightsOf.empty()) {
+    hr::Scene scene = hr::loadScene(a.lightsOf);  // names the file and key when it cannot be read
+    std::vector<std::uint32_t> lights = hr::emitterObjects(scene);
+    exclude.insert(exclude.end(), lights.begin(), lights.end());
+  }
   hr::Image A = hr::readExr(a.a), B = hr::readExr(a.b);
   ref::Metrics m = ref::compare(A, B, mask, a.a, a.b, exclude);
   if (!a.variance.empty()) ref::addReferenceNoise(m, A, B, hr::readExr(a.variance), mask, exclude, a.variance);
@@ -125,7 +130,7 @@ int runCompare(const CompareArgs& a) {
       j["rel_rmse_reference_noise_removed"] = {m.relRmseDenoisedLo, m.relRmseDenoisedHi};
     }
     if (a.mask) j["mask_object_id"] = *a.mask;
-    if (!a.exclude.empty()) j["excluded_object_ids"] = a.exclude;
+    if (!exclude.empty()) j["excluded_object_ids"] = exclude;
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("A = %s, B = %s (reference)%s\n", a.a.c_str(), a.b.c_str(),

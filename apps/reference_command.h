@@ -20,6 +20,7 @@ struct CompareArgs {
   std::string variance;  // B's variance image (.var.exr): the reference's own noise taken out
   std::optional<long long> mask;
   std::vector<long long> exclude;  // objects left out (the light sources, say)
+  std::string lightsOf;            // a scene whose emitting objects are left out as well
   bool json = false;
 };
 int runCompare(const CompareArgs& a);

@@ -132,6 +132,8 @@ std::vector<Case> cases() {
        "compare {dir}/a.exr {dir}/b.exr -o {out}/d.png", {"{dir}/b.exr", "black"}},
       {"misleading", "compare_inf_pixel", {{"a.exr", "<exr:inf>"}, {"b.exr", "<exr:grey>"}},
        "compare {dir}/a.exr {dir}/b.exr -o {out}/d.png", {"{dir}/a.exr", "pixel (1, 0)", "finite"}},
+      {"misleading", "compare_lights_of_a_missing_scene", {{"a.exr", "<exr:grey>"}},
+       "compare {dir}/a.exr {dir}/a.exr --exclude-lights {dir}/none.json -o {out}/d.png", {"{dir}/none.json"}},
       {"misleading", "directory_as_scene", {{"d.json/", ""}}, "solve {dir}/d.json -o {out}", {"{dir}/d.json", "directory"}},
       {"misleading", "huge_key_not_echoed_in_full",
        {{"s.json", withLamp(R"({ "type": "sphere", "material": ")" + std::string(10 << 20, 'k') + R"(", "center": [0,0,0], "radius": 1 })")}},
