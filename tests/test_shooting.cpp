@@ -146,3 +146,44 @@ TEST(Determinism, ShootingSameSeedSameAnswerForAnyThreadCount) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two closed rooms 10 m apart, each with its own lamp and a sphere: a pass of one shooter lights one
+// room, and its push/pull visits that room alone (the other is as the last pass left it). The answer
+// must be the one a push over everything gives, bit for bit; a subtree skipped that should have been
+// visited (light that reached a cluster over the sphere's patches, say) would change it.
+TEST(Shooting, APassPushesOnlyTheRoomItLitAndChangesNothingElse) {
+  auto room = [](double x) {
+    const std::string lo = std::to_string(x), hi = std::to_string(x + 1.0), l0 = std::to_string(x + 0.4),
+                      l1 = std::to_string(x + 0.6);
+    return R"({ "type": "box", "material": "w", "min": [)" + lo + R"(,0,0], "max": [)" + hi +
+           R"(,1,1], "facing": "inward" }, { "type": "quad", "material": "e", "vertices": [[)" + l0 + ",0.99,0.4],[" + l1 +
+           ",0.99,0.4],[" + l1 + ",0.99,0.6],[" + l0 + R"(,0.99,0.6]] }, { "type": "sphere", "material": "w", "center": [)" +
+           std::to_string(x + 0.5) + ",0.3,0.5], \"radius\": 0.15 }";
+  };
+  const std::string json = R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
+    "objects": [ )" + room(0.0) + ", " + room(10.0) + " ] }";
+  // A coarse threshold: the lamp lights each sphere's many patches through links to their clusters.
+  hr::SolverOptions o = shooting(testutil::options(2e-3, 5));
+  o.shootFraction = 1.0;  // the strongest patch alone: each pass lights one room
+  o.maxIterations = 60;
+  auto pruned = testutil::solveText(json, o);
+  o.testOnlyPushEverything = true;
+  auto full = testutil::solveText(json, o);
+  const std::size_t P = pruned.h->patches().size();
+  std::size_t partial = 0;
+  for (const hr::IterationStat& h : pruned.stats.history) {
+    EXPECT_GE(h.pushedPatches, 1u);
+    if (h.pushedPatches <= P / 2) ++partial;
+  }
+  for (const hr::IterationStat& h : full.stats.history) EXPECT_EQ(h.pushedPatches, P);
+  std::printf("%zu of %zu passes pushed one room or less (%zu patches in all)\n", partial, pruned.stats.history.size(), P);
+  EXPECT_GE(partial, pruned.stats.history.size() / 2);
+  ASSERT_EQ(pruned.solver->radiosity().size(), full.solver->radiosity().size());
+  EXPECT_EQ(std::memcmp(pruned.solver->radiosity().data(), full.solver->radiosity().data(),
+                        pruned.solver->radiosity().size() * sizeof(hr::Rgb)),
+            0);
+}
+
+}  // namespace

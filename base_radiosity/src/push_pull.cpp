@@ -89,7 +89,8 @@ class PushPull {
   static constexpr std::uint32_t kSerialPatches = 512;
 
   PushPull(SolverState& s, PushMode mode)
-      : s_(s), shoot_(mode == PushMode::Shoot), carry_(s.ext && !s.ext->reflectsInGather()) {
+      : s_(s), shoot_(mode == PushMode::Shoot), prune_(shoot_ && !s.opt.testOnlyPushEverything),
+        carry_(s.ext && !s.ext->reflectsInGather()) {
     if (s.ext) indexElementLinks();
     // Each cluster's links, packed once (links are grouped by receiver); links that brought no light
     // are left out.
@@ -111,12 +112,47 @@ class PushPull {
         cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
       }
     });
+    if (prune_) markTouched();
+    s.pushSkipped = 0;
   }
 
   void run() {
     SampleChain none;
     cluster(0, none);
   }
+
+  /// Shooting: which root patches a pass changed (one of its elements received light, or it shot),
+  /// counted along Hierarchy::patchOrder so that a cluster's share is a difference of two prefix
+  /// counts. A cluster that received light changes every patch under it.
+  void markTouched() {
+    const auto& order = s_.h.patchOrder();
+    const std::size_t P = order.size();
+    std::vector<std::uint32_t> pos(P);
+    for (std::uint32_t i = 0; i < P; ++i) pos[order[i]] = i;
+    std::vector<int> diff(P + 1, 0);
+    auto mark = [&](std::uint32_t begin, std::uint32_t end) { ++diff[begin], --diff[end]; };
+    for (std::size_t g = 0; g + 1 < s_.groupStart.size(); ++g) {
+      bool lit = false;
+      for (std::uint32_t k = s_.groupStart[g]; k < s_.groupStart[g + 1] && !lit; ++k) lit = s_.links[k].E != glm::vec3(0.0f);
+      if (!lit) continue;
+      const NodeId r = s_.links[s_.groupStart[g]].receiver;
+      if (r.isCluster()) {
+        mark(s_.h.cluster(r.index()).patchBegin, s_.h.cluster(r.index()).patchEnd);
+      } else {
+        std::uint32_t at = pos[s_.h.element(r.index()).patch];
+        mark(at, at + 1);
+      }
+    }
+    for (std::uint32_t p : s_.passShooters) mark(pos[p], pos[p] + 1);
+    touchedBefore_.assign(P + 1, 0);
+    int depth = 0;
+    for (std::size_t i = 0; i < P; ++i) {
+      depth += diff[i];
+      touchedBefore_[i + 1] = touchedBefore_[i] + (depth > 0);
+    }
+    patchPos_ = std::move(pos);
+  }
+  bool touched(std::uint32_t begin, std::uint32_t end) const { return touchedBefore_[end] > touchedBefore_[begin]; }
 
   /// The packed samples are freed in parallel: the clusters' small arrays, freed one by one on every
   /// sweep, were a third of what push/pull left serial on the Soda Shoppe.
@@ -284,12 +320,23 @@ class PushPull {
   }
 
   void cluster(std::uint32_t c, const SampleChain& up) {
-    SampleChain here{&samples_[c], &up};
     const Cluster& cl = s_.h.cluster(c);
+    SampleChain here{&samples_[c], &up};
+    // Shooting: a subtree no light reached and no shooter lies in is as the last pass left it (light
+    // that reached a cluster touched every patch under it).
+    if (prune_ && !touched(cl.patchBegin, cl.patchEnd)) {
+      s_.pushSkipped.fetch_add(cl.patchEnd - cl.patchBegin, std::memory_order_relaxed);
+      return;
+    }
     auto child = [&](std::size_t k) {
       NodeId kid = cl.children[k];
       if (kid.isCluster()) {
         cluster(kid.index(), here);
+        return;
+      }
+      const std::uint32_t at = prune_ ? patchPos_[s_.h.element(kid.index()).patch] : 0;
+      if (prune_ && !touched(at, at + 1)) {
+        s_.pushSkipped.fetch_add(1, std::memory_order_relaxed);
         return;
       }
       const Vec3& n = s_.h.element(kid.index()).normal;
@@ -368,9 +415,12 @@ class PushPull {
 
   SolverState& s_;
   const bool shoot_;  // add the pass's light (shooting) instead of replacing (gathering)
+  const bool prune_;  // shooting: visit only the subtrees the pass changed
   const bool carry_;  // carry samples down to simulated leaves (not for an extension that reflects in gather)
   std::vector<ClusterSamples> samples_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> elemRange_;  // element receivers' links
+  std::vector<std::uint32_t> patchPos_;        // shooting: each patch's place in patchOrder
+  std::vector<std::uint32_t> touchedBefore_;   // shooting: changed patches among patchOrder[0..i)
 };
 
 }  // namespace

@@ -6,7 +6,10 @@
 //     refined by the usual oracle, which reads the shooters' unshot light (SolverState::shooting);
 //  3. the unshot light travels along them (gatherLinks; the gather hook sees this pass's samples);
 //  4. the shooters' unshot light is cleared (host and extension);
-//  5. what arrived is pushed down and pulled up (PushMode::Shoot): it joins radiosity and unshot.
+//  5. what arrived is pushed down and pulled up (PushMode::Shoot): it joins radiosity and unshot. The
+//     push visits only the subtrees the pass lit and the paths up from them and from the shooters:
+//     elsewhere nothing changed, and re-pulling it cost most of a pass (the glossy sphere: 65 % of
+//     the solve in push/pull, its clusters' distributions summed again every pass).
 // All shooters of a pass send what they held at its start, so the pass is one parallel step; shooters
 // are taken in patch order and refinement is deterministic, so passes do not depend on the thread
 // count. Links are kept per shooter: a later pass from the same patch reuses them, refined for its
@@ -74,6 +77,7 @@ class Shooter {
       is.elements = s_.h.elements().size();
       is.refined = refined;
       is.shooters = shooters.size();
+      is.pushedPatches = s_.h.patches().size() - s_.pushSkipped.load();
       is.samples = s_.samples.exchange(0);
       is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       st_.history.push_back(is);
@@ -135,6 +139,7 @@ class Shooter {
     if (s_.ext) s_.ext->attach(view_);
     gatherLinks(s_);
     s_.shooting = false;
+    s_.passShooters = shooters;
     tbb::parallel_for(std::size_t(0), shooters.size(), [&](std::size_t i) {
       clearUnshot(s_, shooters[i]);
       if (s_.ext && s_.owned[shooters[i]]) s_.ext->shot(NodeId{shooters[i]});

@@ -107,6 +107,8 @@ struct SolverState {
   std::vector<Rgb> U;
   std::vector<float> Umin, Umax;
   bool shooting = false;  // a shooting pass is refining or transferring: senders send their unshot light
+  std::vector<std::uint32_t> passShooters;  // the patches a shooting pass shot (its push visits them)
+  std::atomic<std::size_t> pushSkipped{0};   // root patches the last shooting push left as they were
   std::vector<float> table;           // per large cluster: planar OctaMap of intensities, W/sr
   std::vector<std::uint32_t> tableSlot;  // per cluster: its table, or kNone when evaluated exactly
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr

@@ -86,7 +86,7 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
     json e = {{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
               {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"samples", h.samples},
               {"seconds", h.seconds}};
-    if (st.iteration == Iteration::Shoot) e["shooters"] = h.shooters;
+    if (st.iteration == Iteration::Shoot) e["shooters"] = h.shooters, e["pushed_patches"] = h.pushedPatches;
     hist.push_back(e);
   }
   j["history"] = hist;

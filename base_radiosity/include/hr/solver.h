@@ -31,6 +31,9 @@ struct SolverOptions {
   /// is wrong on purpose; the energy audit must catch it. Set by SolverOptions::from() when the
   /// environment variable GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS is 1. Never for real runs.
   bool testOnlyUnblockedShadowRays = false;
+  /// TEST ONLY: a shooting pass's push/pull visits every subtree, not only those the pass changed:
+  /// the answer the pruned push must equal bit for bit.
+  bool testOnlyPushEverything = false;
   std::uint64_t seed = 1;
   Iteration iteration = Iteration::Gather;
   /// Shooting: a patch shoots in a pass when its unshot power is at least this fraction of the
@@ -49,6 +52,7 @@ struct IterationStat {
   double unconvergedW = 0.0;   // residual extrapolated by the geometric series of mean reflectance
   std::size_t links = 0, elements = 0, refined = 0;
   std::size_t shooters = 0;    // shooting: patches that shot in this pass
+  std::size_t pushedPatches = 0;  // shooting: root patches the pass's push/pull visited (the rest kept)
   std::size_t samples = 0;     // Illumination Samples handed to the extension's gather hook
   double seconds = 0.0;
 };
