@@ -6,7 +6,7 @@
 #pragma once
 #include <hr/extension.h>
 #include <hr/octamap.h>
-#include <hr/solver.h>
+#include <hr/solve.h>
 #include <vision/curved_visibility.h>
 #include <vision/hierarchy.h>
 

@@ -24,20 +24,6 @@ constexpr int kDivergingIterations = 3;
 using detail::Link;
 using detail::SolverState;
 
-SolverOptions SolverOptions::from(const Settings& s) {
-  SolverOptions o;
-  o.eps = s.eps;
-  o.maxLevel = s.maxLevel;
-  o.minArea = s.minArea;
-  o.raysPerLink = s.raysPerLink;
-  o.maxIterations = s.maxIterations;
-  o.tolerance = s.tolerance;
-  o.seed = s.seed;
-  const char* testOnly = std::getenv("GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS");
-  o.testOnlyUnblockedShadowRays = testOnly && std::string(testOnly) == "1";
-  return o;
-}
-
 struct Solver::Impl final : public HostView {
   SolverState s;
   Progress* progress;

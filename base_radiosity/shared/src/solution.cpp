@@ -1,26 +1,11 @@
-// Solution snapshot and point location (the smooth display reconstruction: reconstruct.cpp).
+// Point location in a solution snapshot (the smooth display reconstruction: reconstruct.cpp). Each
+// host makes its own snapshot: bright/src/make_solution.cpp, vision_host/src/export.cpp.
 #include <hr/solution.h>
 
 #include <cmath>
 #include <limits>
 
 namespace hr {
-
-Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<Rgb>& B) {
-  Solution s;
-  s.sceneName = scene.name;
-  s.patches = h.patches();
-  s.materials = scene.materials;
-  s.cameras = scene.cameras;
-  s.objectCount = static_cast<std::uint32_t>(scene.objects.size());
-  s.elements.reserve(h.elements().size());
-  for (std::size_t i = 0; i < h.elements().size(); ++i) {
-    const Element& e = h.element(static_cast<std::uint32_t>(i));
-    s.elements.push_back({e.poly, e.patch, e.firstChild, e.level, B[i]});
-  }
-  reconstruct(s);
-  return s;
-}
 
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) {
   std::uint32_t e = patch;
