@@ -172,15 +172,14 @@ struct Solver::Impl {
     if (!st.converged)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
-    detail::Audit a;
+    hr::audit::Totals a;
     {
       Clock c(st.energy);
       a = detail::auditEnergy(s);
     }
-    st.absorbedW = a.absorbed, st.escapedW = a.escaped, st.backAbsorbedW = a.back, st.auditStdErrW = a.stdErr;
     // The same honest-reporting rule as the BRIGHT-like host: beyond --max-imbalance plus the
     // audit's own noise the answer is not trustworthy (exit 3).
-    judgeEnergy(st, s.opt.maxImbalance);
+    hr::audit::record(st, a, s.opt.maxImbalance);
     // Shadow rays are traced inside the shooting tasks: their share of the shooting threads' time.
     const double threadNs = 1e9 * st.refine.cpu;
     visShare = threadNs > 0.0 ? std::min(1.0, double(s.visibilityNs.load()) / threadNs) : 0.0;

@@ -5,6 +5,7 @@
 // shooting), push_pull.cpp, intensity.cpp (unshot intensity), audit.cpp (energy).
 #pragma once
 #include <hr/extension.h>
+#include <hr/audit_estimators.h>
 #include <hr/octamap.h>
 #include <hr/solve.h>
 #include <vision/curved_visibility.h>
@@ -155,10 +156,6 @@ double pushPull(State& s, bool push = true);
 void indexClusters(State& s);
 
 // audit.cpp
-struct Audit {
-  Rgb absorbed{0.0}, escaped{0.0}, back{0.0}, stdErr{0.0};
-  std::uint64_t rays = 0;
-};
-Audit auditEnergy(const State& s);
+hr::audit::Totals auditEnergy(const State& s);
 
 }  // namespace vision::detail

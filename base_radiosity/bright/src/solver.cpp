@@ -204,14 +204,9 @@ struct Solver::Impl final : public HostView {
     if (!st.converged && !st.diverged && s.opt.iteration == Iteration::Gather)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
-    detail::AuditResult audit = detail::auditEnergy(s);
-    st.absorbedW = audit.absorbedW;
-    st.escapedW = audit.escapedW;
-    st.backAbsorbedW = audit.backAbsorbedW;
-    st.auditStdErrW = audit.escapedStdErrW;
     // Honest reporting: the audit measures where the power went independently of the links; an
     // imbalance beyond what the options allow plus the audit's own noise makes the answer untrustworthy.
-    judgeEnergy(st, s.opt.maxImbalance);
+    audit::record(st, detail::auditEnergy(s), s.opt.maxImbalance);
     st.visibility = stat(s.clkVisibility);
     st.refine = stat(s.clkRefine);
     st.gather = stat(s.clkGather);

@@ -3,6 +3,7 @@
 // phases share (a node's material, a sender's light toward a receiver). Each phase lives in a file of
 // its own (transfer.cpp, refine.cpp, push_pull.cpp, energy_audit.cpp) and works on this state.
 #pragma once
+#include <hr/audit_estimators.h>
 #include <hr/octamap.h>
 #include <hr/rng.h>
 #include <hr/solver.h>
@@ -217,12 +218,7 @@ std::string nonFiniteWhere(const SolverState& s, const std::string& when);
 /// opt.maxIterations passes have run; fills st's history, iterations, converged and unshotW.
 void shootPasses(SolverState& s, const HostView& view, Progress& progress, SolveStats& st);
 
-struct AuditResult {
-  Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};
-  Rgb escapedStdErrW{0.0};  // standard error of the ray estimate of escaped + back-face power
-  std::uint64_t rays = 0;
-};
 /// The independent energy audit (see energy_audit.cpp).
-AuditResult auditEnergy(SolverState& s);
+audit::Totals auditEnergy(SolverState& s);
 
 }  // namespace hr::detail
