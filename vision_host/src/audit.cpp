@@ -98,7 +98,7 @@ hr::audit::Totals auditEnergy(const State& s) {
   }
   std::vector<LeafAudit> per(leaves.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const auto& r) {
-    sawThread(s.auditThreads);
+    hr::markThread(s.auditThreads);
     for (std::size_t i = r.begin(); i != r.end(); ++i) auditLeaf(s, *leaves[i], i, sent, per[i]);
   });
   hr::audit::Totals res = hr::audit::sum(per);

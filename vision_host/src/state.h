@@ -7,6 +7,7 @@
 #include <hr/extension.h>
 #include <hr/audit_estimators.h>
 #include <hr/octamap.h>
+#include <hr/phase_clock.h>
 #include <hr/solve.h>
 #include <vision/curved_visibility.h>
 #include <vision/hierarchy.h>
@@ -90,8 +91,6 @@ struct State {
   const float* table(const Cluster& c) const { return &tables[std::size_t(c.table) * hr::OctaMap::kBins * 3]; }
 };
 
-/// Marks the calling TBB thread in a phase's mask.
-void sawThread(std::atomic<std::uint64_t>& mask);
 
 // bounds.cpp
 KernelBounds kernelBounds(const Geometry& s, const Geometry& r);
