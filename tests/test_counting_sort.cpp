@@ -1,4 +1,4 @@
-// The parallel counting sort that groups links by receiver (base_radiosity/src/counting_sort.h): it
+// The parallel counting sort that groups links by receiver (base_radiosity/bright/src/counting_sort.h): it
 // must give std::stable_sort's order, items left out excluded, whatever the number of blocks, which
 // follows the thread count. Solver-level determinism over many links is in test_robustness.cpp.
 #include <gtest/gtest.h>

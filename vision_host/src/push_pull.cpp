@@ -70,7 +70,7 @@ class PushPull {
   PushPull(State& s, bool push) : s_(s), push_(push) {}
 
   void cluster(std::uint32_t ci, const Chain* up) {
-    sawThread(s_.pushThreads);
+    hr::markThread(s_.pushThreads);
     Cluster& c = s_.h.clusters()[ci];
     Chain here{&s_.samples[ci], up};
     const std::size_t n = c.clusters.size() + c.surfaces.size();

@@ -95,7 +95,7 @@ class Shot {
   }
 
   void receive(const Receiver& r, std::vector<Sender> work) {
-    sawThread(s_.shootThreads);
+    hr::markThread(s_.shootThreads);
     const Geometry& rg = r.g(s_.h);
     const bool rSplits = canSplit(r);
     // The gap is held partly in radiosity (bounded radiosity bounds B): eps times the emitted power,

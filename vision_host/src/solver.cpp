@@ -6,11 +6,8 @@
 // node's unshot light is cleared (shot), as the whole scene has just shot it; the push then hands
 // the extension this shot's samples (push_pull.cpp).
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-#include <time.h>
 #include <vision/solver.h>
 
-#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,34 +15,6 @@
 #include "state.h"
 
 namespace vision {
-
-namespace {
-
-double cpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-/// Wall and CPU time of a phase.
-struct Clock {
-  hr::PhaseStat& st;
-  std::chrono::steady_clock::time_point w0 = std::chrono::steady_clock::now();
-  double c0 = cpuSeconds();
-  ~Clock() {
-    st.wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    st.cpu += cpuSeconds() - c0;
-  }
-};
-
-}  // namespace
-
-namespace detail {
-void sawThread(std::atomic<std::uint64_t>& mask) {
-  int i = tbb::this_task_arena::current_thread_index();
-  if (i >= 0) mask.fetch_or(std::uint64_t(1) << (i % 64), std::memory_order_relaxed);
-}
-}  // namespace detail
 
 TreeCounts countElements(const Hierarchy& h) {
   TreeCounts n;
@@ -126,7 +95,7 @@ struct Solver::Impl {
     initialLight(st);
     if (s.ext) s.ext->attach(view);
     {
-      Clock c(st.pushPull);
+      hr::PhaseTimer c(st.pushPull);
       unshot = detail::pushPull(s, false);  // no light received yet: powers and tables from the emitters
     }
     for (int it = 1; it <= s.opt.maxIterations; ++it) {
@@ -135,14 +104,14 @@ struct Solver::Impl {
       const std::size_t before = countElements(s.h).elements;
       std::uint64_t used;
       {
-        Clock c(st.refine);
+        hr::PhaseTimer c(st.refine);
         used = detail::shoot(s);
         afterShot();
       }
       st.linksComputed += used;
       progress->phase("iteration " + std::to_string(it) + ": push/pull");
       {
-        Clock c(st.pushPull);
+        hr::PhaseTimer c(st.pushPull);
         unshot = detail::pushPull(s) + detail::extensionUnshot(s);
       }
       if (!std::isfinite(unshot)) throw std::runtime_error("non-finite radiosity after iteration " + std::to_string(it));
@@ -172,23 +141,22 @@ struct Solver::Impl {
     if (!st.converged)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
-    detail::Audit a;
+    hr::audit::Totals a;
     {
-      Clock c(st.energy);
+      hr::PhaseTimer c(st.energy);
       a = detail::auditEnergy(s);
     }
-    st.absorbedW = a.absorbed, st.escapedW = a.escaped, st.backAbsorbedW = a.back, st.auditStdErrW = a.stdErr;
     // The same honest-reporting rule as the BRIGHT-like host: beyond --max-imbalance plus the
     // audit's own noise the answer is not trustworthy (exit 3).
-    judgeEnergy(st, s.opt.maxImbalance);
+    hr::audit::record(st, a, s.opt.maxImbalance);
     // Shadow rays are traced inside the shooting tasks: their share of the shooting threads' time.
     const double threadNs = 1e9 * st.refine.cpu;
     visShare = threadNs > 0.0 ? std::min(1.0, double(s.visibilityNs.load()) / threadNs) : 0.0;
     st.visibility.wall = st.refine.wall * visShare;
     st.visibility.cpu = 1e-9 * double(s.visibilityNs.load());
-    st.refine.threads = st.visibility.threads = std::popcount(s.shootThreads.load());
-    st.pushPull.threads = std::popcount(s.pushThreads.load());
-    st.energy.threads = std::popcount(s.auditThreads.load());
+    st.refine.threads = st.visibility.threads = hr::threadCount(s.shootThreads);
+    st.pushPull.threads = hr::threadCount(s.pushThreads);
+    st.energy.threads = hr::threadCount(s.auditThreads);
     st.tRefine = st.refine.wall, st.tVisibility = st.visibility.wall, st.tPushPull = st.pushPull.wall, st.tEnergy = st.energy.wall;
     TreeCounts n = countElements(s.h);
     st.elements = n.elements, st.leaves = n.leaves, st.clusters = s.h.clusters().size();

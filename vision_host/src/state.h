@@ -5,8 +5,10 @@
 // shooting), push_pull.cpp, intensity.cpp (unshot intensity), audit.cpp (energy).
 #pragma once
 #include <hr/extension.h>
+#include <hr/audit_estimators.h>
 #include <hr/octamap.h>
-#include <hr/solver.h>
+#include <hr/phase_clock.h>
+#include <hr/solve.h>
 #include <vision/curved_visibility.h>
 #include <vision/hierarchy.h>
 
@@ -89,8 +91,6 @@ struct State {
   const float* table(const Cluster& c) const { return &tables[std::size_t(c.table) * hr::OctaMap::kBins * 3]; }
 };
 
-/// Marks the calling TBB thread in a phase's mask.
-void sawThread(std::atomic<std::uint64_t>& mask);
 
 // bounds.cpp
 KernelBounds kernelBounds(const Geometry& s, const Geometry& r);
@@ -155,10 +155,6 @@ double pushPull(State& s, bool push = true);
 void indexClusters(State& s);
 
 // audit.cpp
-struct Audit {
-  Rgb absorbed{0.0}, escaped{0.0}, back{0.0}, stdErr{0.0};
-  std::uint64_t rays = 0;
-};
-Audit auditEnergy(const State& s);
+hr::audit::Totals auditEnergy(const State& s);
 
 }  // namespace vision::detail

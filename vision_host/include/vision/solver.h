@@ -7,7 +7,7 @@
 #pragma once
 #include <hr/progress.h>
 #include <hr/solution.h>
-#include <hr/solver.h>
+#include <hr/solve.h>
 #include <vision/curved_visibility.h>
 #include <vision/hierarchy.h>
 

@@ -1,7 +1,8 @@
 // Diffuse hierarchical radiosity with clustering (in the manner of Smits et al. 1994 and Sillion
 // 1995). One iteration = refine links (refine.cpp) -> gather along links -> push/pull
 // (push_pull.cpp); the energy audit (energy_audit.cpp) closes the run. This file holds the gathering
-// loop, convergence and the host's view for an extension; shooting passes are in shoot.cpp.
+// loop and convergence; shooting passes are in shoot.cpp, the host's view for an extension in
+// tree_view.cpp.
 #include <hr/solver.h>
 #include <hr/output.h>
 
@@ -15,6 +16,7 @@
 #include "convergence.h"
 #include "memory_budget.h"
 #include "solver_state.h"
+#include "tree_view.h"
 
 namespace hr {
 
@@ -24,65 +26,20 @@ constexpr int kDivergingIterations = 3;
 using detail::Link;
 using detail::SolverState;
 
-SolverOptions SolverOptions::from(const Settings& s) {
-  SolverOptions o;
-  o.eps = s.eps;
-  o.maxLevel = s.maxLevel;
-  o.minArea = s.minArea;
-  o.raysPerLink = s.raysPerLink;
-  o.maxIterations = s.maxIterations;
-  o.tolerance = s.tolerance;
-  o.seed = s.seed;
-  const char* testOnly = std::getenv("GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS");
-  o.testOnlyUnblockedShadowRays = testOnly && std::string(testOnly) == "1";
-  return o;
-}
-
-struct Solver::Impl final : public HostView {
+struct Solver::Impl {
   SolverState s;
+  detail::TreeView view;  // what an extension sees of the hierarchy (tree_view.h)
   Progress* progress;
   Progress silent{true};
 
   Impl(const Scene& sc, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e, Progress* p)
-      : s(sc, hi, v, o, e), progress(p ? p : &silent) {}
-
-  // ---- HostView --------------------------------------------------------------------------
-  NodeId root() const override { return s.h.root(); }
-  NodeInfo info(NodeId n) const override {
-    NodeInfo i;
-    if (n.isCluster()) {
-      const Cluster& c = s.h.cluster(n.index());
-      i.center = c.center;
-      i.area = c.area;
-      i.bounds = c.bounds;
-      return i;
-    }
-    const Element& e = s.h.element(n.index());
-    i.center = e.center;
-    i.normal = e.normal;
-    i.area = e.area;
-    i.planar = true;
-    i.leaf = e.leaf();
-    i.material = s.h.patches()[e.patch].material;
-    i.object = s.h.patches()[e.patch].object;
-    for (int k = 0; k < e.poly.n; ++k) i.bounds.grow(e.poly.v[k]);
-    return i;
-  }
-  std::span<const NodeId> children(NodeId n) const override { return s.h.children(n); }
-  std::size_t elementCount() const override { return s.h.elements().size(); }
-  std::size_t clusterCount() const override { return s.h.clusters().size(); }
-  std::size_t materialCount() const override { return s.scene.materials.size(); }
-  std::string materialName(std::uint32_t id) const override { return s.scene.materials[id].name; }
-  MaterialInfo material(std::uint32_t id) const override {
-    const Material& m = s.scene.materials[id];
-    return {m.diffuse, m.specular, m.exponent, m.emission};
-  }
+      : s(sc, hi, v, o, e), view(sc, hi), progress(p ? p : &silent) {}
 
   void markOwned() {
     s.clusterOwned.assign(s.h.clusters().size(), 0);
     if (!s.ext) return;
     for (std::uint32_t p = 0; p < s.h.patches().size(); ++p)
-      s.owned[p] = s.ext->simulates(material(s.h.patches()[p].material)) ? 1 : 0;
+      s.owned[p] = s.ext->simulates(view.material(s.h.patches()[p].material)) ? 1 : 0;
     // Clusters are built with children after parents: a reverse sweep sees children first.
     for (std::size_t c = s.h.clusters().size(); c-- > 0;)
       for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
@@ -137,7 +94,7 @@ struct Solver::Impl final : public HostView {
     const double target = s.opt.tolerance * s.emittedPower;
     int it = 0;
     int grew = 0;  // consecutive iterations whose residual grew
-    if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, *this, *progress, st);
+    if (s.opt.iteration == Iteration::Shoot) detail::shootPasses(s, view, *progress, st);
     detail::MemoryBudget budget(s.opt.memoryBudgetBytes, s.opt.eps);
     // glibc raises its mmap threshold each time a large block is freed (up to 32 MB), so link arrays
     // soon come from the heap, and an array freed there stays resident: a pass that copied its links
@@ -153,7 +110,7 @@ struct Solver::Impl final : public HostView {
       std::size_t refined = 0;
       s.capCut = false;
       if (!budget.frozen()) refined = detail::refineLinks(s);
-      if (s.ext) s.ext->attach(*this);
+      if (s.ext) s.ext->attach(view);
       acc.restart();
       double res = 0.0;
       do {
@@ -218,14 +175,9 @@ struct Solver::Impl final : public HostView {
     if (!st.converged && !st.diverged && s.opt.iteration == Iteration::Gather)
       progress->note("NOT CONVERGED after " + std::to_string(s.opt.maxIterations) + " iterations (raise --max-iterations)");
     progress->phase("energy balance");
-    detail::AuditResult audit = detail::auditEnergy(s);
-    st.absorbedW = audit.absorbedW;
-    st.escapedW = audit.escapedW;
-    st.backAbsorbedW = audit.backAbsorbedW;
-    st.auditStdErrW = audit.escapedStdErrW;
     // Honest reporting: the audit measures where the power went independently of the links; an
     // imbalance beyond what the options allow plus the audit's own noise makes the answer untrustworthy.
-    judgeEnergy(st, s.opt.maxImbalance);
+    audit::record(st, detail::auditEnergy(s), s.opt.maxImbalance);
     st.visibility = stat(s.clkVisibility);
     st.refine = stat(s.clkRefine);
     st.gather = stat(s.clkGather);
@@ -257,6 +209,6 @@ Solver::~Solver() = default;
 SolveStats Solver::solve() { return impl_->solve(); }
 const std::vector<Rgb>& Solver::radiosity() const { return impl_->s.B; }
 const std::vector<Rgb>& Solver::irradiance() const { return impl_->s.Et; }
-const HostView& Solver::view() const { return *impl_; }
+const HostView& Solver::view() const { return impl_->view; }
 
 }  // namespace hr

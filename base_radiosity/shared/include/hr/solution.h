@@ -3,7 +3,6 @@
 // reads this, so a saved solution renders exactly like a fresh one.
 #pragma once
 #include <hr/geometry.h>
-#include <hr/hierarchy.h>
 #include <hr/section_file.h>
 
 #include <string>
@@ -51,8 +50,6 @@ struct Solution {
 void setSection(Solution& s, const std::string& name, std::string bytes);
 /// The payload of an opaque section, or nullptr.
 const std::string* findSection(const Solution& s, const std::string& name);
-
-Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<Rgb>& radiosity);
 
 /// Smooth reconstruction without bias (reconstruct.cpp): each leaf corner takes the area-weighted mean
 /// radiosity of the leaves of the same object and material that share that point and face within 30

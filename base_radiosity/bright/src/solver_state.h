@@ -3,7 +3,9 @@
 // phases share (a node's material, a sender's light toward a receiver). Each phase lives in a file of
 // its own (transfer.cpp, refine.cpp, push_pull.cpp, energy_audit.cpp) and works on this state.
 #pragma once
+#include <hr/audit_estimators.h>
 #include <hr/octamap.h>
+#include <hr/phase_clock.h>
 #include <hr/rng.h>
 #include <hr/solver.h>
 
@@ -69,25 +71,13 @@ using LinkArray = std::vector<Link, FillLater<Link>>;
 
 /// Wall and CPU time of the phases, and how many distinct threads worked in each: a phase that
 /// should be parallel but ran on one thread shows here (and fails a test).
+/// Timed by hr::PhaseTimer (hr/phase_clock.h).
 struct PhaseClock {
   double wall = 0.0, cpu = 0.0;
   std::atomic<std::uint64_t> threadMask{0};
-  void sawThread();  // call from inside the phase's parallel bodies
-  int threads() const;
+  void sawThread() { markThread(threadMask); }  // call from inside the phase's parallel bodies
+  int threads() const { return threadCount(threadMask); }
 };
-
-class PhaseTimer {
- public:
-  explicit PhaseTimer(PhaseClock& c);
-  ~PhaseTimer();
-
- private:
-  PhaseClock& c_;
-  std::chrono::steady_clock::time_point w0_;
-  double c0_;
-};
-
-double processCpuSeconds();
 
 struct SolverState {
   SolverState(const Scene& s, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e)
@@ -219,12 +209,7 @@ std::string nonFiniteWhere(const SolverState& s, const std::string& when);
 /// opt.maxIterations passes have run; fills st's history, iterations, converged and unshotW.
 void shootPasses(SolverState& s, const HostView& view, Progress& progress, SolveStats& st);
 
-struct AuditResult {
-  Rgb absorbedW{0.0}, escapedW{0.0}, backAbsorbedW{0.0};
-  Rgb escapedStdErrW{0.0};  // standard error of the ray estimate of escaped + back-face power
-  std::uint64_t rays = 0;
-};
 /// The independent energy audit (see energy_audit.cpp).
-AuditResult auditEnergy(SolverState& s);
+audit::Totals auditEnergy(SolverState& s);
 
 }  // namespace hr::detail

@@ -1,8 +1,9 @@
 // Writers for everything the solver leaves on disk. Every writer goes through writeAtomically():
 // the bytes land in a temporary file next to the target, which is renamed only when complete.
 #pragma once
+#include <hr/extension.h>
 #include <hr/solution.h>
-#include <hr/solver.h>
+#include <hr/solve.h>
 
 #include <functional>
 #include <string>

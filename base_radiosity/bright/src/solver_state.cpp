@@ -1,11 +1,8 @@
 // Helpers every solver phase shares: array growth after subdivision, a sender's light toward a
-// receiver, grouping links by receiver, points on nodes, and the phase clocks.
+// receiver, grouping links by receiver, points on nodes.
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-#include <time.h>
 
 #include <algorithm>
-#include <bit>
 #include <cassert>
 
 #include <hr/kernel.h>
@@ -15,24 +12,6 @@
 #include "counting_sort.h"
 
 namespace hr::detail {
-
-double processCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-void PhaseClock::sawThread() {
-  int i = tbb::this_task_arena::current_thread_index();
-  if (i >= 0) threadMask.fetch_or(std::uint64_t(1) << (i % 64), std::memory_order_relaxed);
-}
-int PhaseClock::threads() const { return std::popcount(threadMask.load()); }
-
-PhaseTimer::PhaseTimer(PhaseClock& c) : c_(c), w0_(std::chrono::steady_clock::now()), c0_(processCpuSeconds()) {}
-PhaseTimer::~PhaseTimer() {
-  c_.wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0_).count();
-  c_.cpu += processCpuSeconds() - c0_;
-}
 
 void SolverState::growArrays() {
   std::size_t n = h.elements().size();

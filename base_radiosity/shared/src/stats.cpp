@@ -1,6 +1,6 @@
 // stats.json: what ran, how long each phase took, what it built, and where the energy went.
 #include <hr/output.h>
-#include <hr/solver.h>
+#include <hr/solve.h>
 #include <nlohmann/json.hpp>
 
 #include <malloc.h>

@@ -1,19 +1,19 @@
-// The diffuse hierarchical radiosity solver with clustering: link refinement from the root
-// cluster's self-link, Embree visibility, Jacobi gathering with re-refinement, push/pull. An optional
-// Extension receives the four hooks (gather, push/pull, reflect, display); without one this is the
-// plain diffuse core. See docs/solver.md for the refinement oracle and the transfer kernels.
+// What every host's solver takes and reports: the options (from a scene's settings and the
+// command line), the per-iteration and per-phase statistics, and the honest-reporting rule for the
+// energy audit. Both hosts fill the same SolveStats, so stats.json and the exit codes mean the same
+// whichever host ran; the hosts themselves are bright/include/hr/solver.h and vision/solver.h.
 #pragma once
-#include <hr/extension.h>
-#include <hr/hierarchy.h>
-#include <hr/progress.h>
-#include <hr/visibility.h>
+#include <hr/scene.h>
+#include <hr/types.h>
 
-#include <memory>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace hr {
 
 /// How light is propagated: Jacobi gathering over every link, or shooting passes from the nodes with
-/// the most unshot power (progressive; src/shoot.cpp).
+/// the most unshot power (progressive). The VISION-like host always shoots.
 enum class Iteration { Gather, Shoot };
 
 struct SolverOptions {
@@ -89,24 +89,6 @@ struct SolveStats {
   double epsReached = 0.0;            // the finest threshold refinement used (eps without a budget)
   bool memoryBudgetExceeded = false;  // the coarsest pass alone did not fit in the budget
   std::vector<IterationStat> history;
-};
-
-class Solver {
- public:
-  Solver(const Scene& scene, Hierarchy& hierarchy, const Visibility& vis, const SolverOptions& opt,
-         Extension* extension = nullptr, Progress* progress = nullptr);
-  ~Solver();
-  SolveStats solve();
-
-  /// Radiosity per element (W/m^2), valid for leaves and, area-averaged, for inner elements.
-  const std::vector<Rgb>& radiosity() const;
-  /// Irradiance per element (W/m^2) from the last push.
-  const std::vector<Rgb>& irradiance() const;
-  const HostView& view() const;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
 };
 
 /// Honest reporting, the same for every host: the audit's imbalance beyond maxImbalance of the
