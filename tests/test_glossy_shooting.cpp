@@ -63,7 +63,11 @@ double balance(const testutil::Solved& s, int c) {
 // refine differently (at 4e-4 gathering ends with 2,483 elements, shooting with 991 and twice the
 // links): a pass's receivers are checked for that pass's light alone, and an element split after
 // it received light hands its children the mean. Held here as a regression guard, not as the
-// acceptance: image means within 1 %, RMSE within 12 %, energy within 1 %.
+// acceptance: image means within 1.5 %, RMSE within 12 %, energy within 1 %. The means' bar was 1 %
+// until the oracle's reflection term (docs/glossy.md) moved gathering's mean at this coarse eps from
+// 0.9925 to 0.9849 of the path tracer's (seed 1; shoot vs gather 1.0138): over seeds 1-3 gathering's
+// mean ratio spans 0.985-0.996 with the term and 0.992-0.995 without it (shooting: 0.9985), so 1 %
+// was within the seed's spread.
 TEST(GlossyShooting, ThreeLightsImageAgreesWithGathering) {
   hr::SolverOptions o = optionsOf("three_lights.json", 4e-4);
   Solve g = solve("three_lights.json", o, "is");
@@ -73,7 +77,7 @@ TEST(GlossyShooting, ThreeLightsImageAgreesWithGathering) {
   ref::Metrics m = lightsMasked(s, g);
   std::printf("three lights: shoot vs gather rel RMSE %.4f, mean ratio %.4f; samples per pass/iteration at most %zu vs %zu\n",
               m.relRmse, m.meanRatio, s.solved.stats.peakSamples, g.solved.stats.peakSamples);
-  EXPECT_NEAR(m.meanRatio, 1.0, 0.01);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.015);
   EXPECT_LT(m.relRmse, 0.12);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(balance(s.solved, c), 1.0, 0.01) << "channel " << c;
 }

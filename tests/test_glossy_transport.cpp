@@ -375,3 +375,95 @@ TEST(GlossyTransport, ADiffuseSceneWithTheExtensionIsTheCoreToTheBit) {
 }
 
 }  // namespace
+
+/// A mirror (rho_d 0, rho_s 0.9, n = 1000) under a diffuse card standing 5-35 cm above it, lit by a
+/// lamp on the camera's side: the camera sees the card's lit face in the mirror. What each mirror
+/// pixel shows follows from the geometry: its reflected eye ray meets the card at a point whose
+/// radiance is the card's B / pi there (the solve's own, diffuse, card leaves), and a narrow normalised
+/// Phong lobe returns rho_s (n+2)/(n+1) cos(theta_i) of it; a ray that misses the card sees black.
+/// Pixels within the lobe's width of the card's outline (where the lobe blurs it) are left out. Every
+/// Illumination Sample carries the direction to its sender element's centre and a mirror leaf
+/// reflects it alike over its whole area: before the oracle split receivers and senders seen wider
+/// than the lobe, the card came out as blobs.
+TEST(GlossyTransport, AMirrorReflectsANearCardAsTheGeometrySays) {
+  const std::string json = R"({ "materials": { "l": { "emission": [12,12,12] }, "w": { "diffuse": [0.8,0.8,0.8] },
+      "mirror": { "diffuse": [0,0,0], "specular": [0.9,0.9,0.9], "exponent": 1000 } },
+    "objects": [
+      { "type": "quad", "material": "l", "vertices": [[-0.3,1.5,-1.6],[0.3,1.5,-1.6],[0.3,1.5,-1.0],[-0.3,1.5,-1.0]] },
+      { "type": "quad", "material": "mirror", "vertices": [[-0.6,0,-0.6],[-0.6,0,0.6],[0.6,0,0.6],[0.6,0,-0.6]] },
+      { "type": "quad", "material": "w", "vertices": [[0.2,0.05,0],[-0.2,0.05,0],[-0.2,0.35,0],[0.2,0.35,0]] } ] })";
+  constexpr std::uint32_t kMirror = 1, kCard = 2;
+  const double exponent = 1000.0, rhoS = 0.9, width = std::sqrt(2.0 / exponent);
+  hr::Camera cam;
+  cam.name = "mirror";
+  cam.eye = hr::Vec3(0, 0.9, -2.2);
+  cam.lookAt = hr::Vec3(0, 0.05, 0);
+  cam.fovYDeg = 24;
+  cam.width = 160;
+  cam.height = 120;
+  const hr::CameraRays rays(cam);
+  // Where a ray from p along r meets the card's lit face (z = 0, facing -z), if it does.
+  auto hitCard = [](const hr::Vec3& p, const hr::Vec3& r, hr::Vec3& q) {
+    if (r.z <= 0.0 || p.z >= 0.0) return false;
+    q = p + (-p.z / r.z) * r;
+    return std::abs(q.x) <= 0.2 && q.y >= 0.05 && q.y <= 0.35;
+  };
+  struct Figures {
+    double relRmse = 0.0;
+    int card = 0, black = 0;
+  };
+  auto measure = [&](const std::vector<hr::OptionValue>& options) {
+    hr::SolverOptions o;
+    o.eps = 2e-4;
+    auto ext = makeIs(options);
+    auto s = testutil::solveText(json, o, ext.get());
+    // The card's radiance at a point: B / pi of its nearest leaf (the solve's diffuse light).
+    auto cardRadiance = [&](const hr::Vec3& q) {
+      double best = 1e300, L = 0.0;
+      for (std::size_t i = 0; i < s.h->elements().size(); ++i) {
+        const auto& e = s.h->element(static_cast<std::uint32_t>(i));
+        if (!e.leaf() || s.h->patches()[e.patch].object != kCard) continue;
+        const double d = glm::length(e.center - q);
+        if (d < best) best = d, L = hr::luminance(s.solver->radiosity()[i]) / hr::kPi;
+      }
+      return L;
+    };
+    hr::Solution sol = hr::makeSolution(s.scene, *s.h, s.solver->radiosity());
+    const hr::Image img = hr::render(sol, cam, ext.get());
+    Figures f;
+    double d2 = 0.0, sumCard = 0.0;
+    int n = 0;
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const std::size_t p = std::size_t(y) * cam.width + x;
+        if (img.objectId[p] != kMirror) continue;
+        const hr::Vec3 d = rays.dir(x + 0.5, y + 0.5), at = cam.eye + (-cam.eye.y / d.y) * d, r(d.x, -d.y, d.z);
+        // The reflected ray and eight tilted by the lobe's 1/e half-width: all must agree.
+        const hr::Vec3 u = glm::normalize(glm::cross(r, hr::Vec3(0, 1, 0))), v = glm::cross(r, u);
+        hr::Vec3 q;
+        const bool in = hitCard(at, r, q);
+        bool edge = false;
+        for (int k = 0; k < 8 && !edge; ++k) {
+          const double a = k * hr::kPi / 4.0;
+          hr::Vec3 qk;
+          edge = hitCard(at, glm::normalize(r + width * (std::cos(a) * u + std::sin(a) * v)), qk) != in;
+        }
+        if (edge) continue;
+        const double expected = in ? rhoS * (exponent + 2.0) / (exponent + 1.0) * -d.y * cardRadiance(q) : 0.0;
+        const double L = hr::luminance(hr::Rgb(img.rgb[3 * p], img.rgb[3 * p + 1], img.rgb[3 * p + 2]));
+        d2 += (L - expected) * (L - expected), ++n;
+        if (in) sumCard += expected, ++f.card;
+        else ++f.black;
+      }
+    f.relRmse = f.card > 0 && n > 0 ? std::sqrt(d2 / n) / (sumCard / f.card) : 1e9;
+    return f;
+  };
+  const Figures sharp = measure({}), blurred = measure({{"reflection-refine", "off"}});
+  std::printf("mirror: %d card pixels, %d black; reflection rel. RMSE against the geometry %.3f (refinement off: %.3f)\n",
+              sharp.card, sharp.black, sharp.relRmse, blurred.relRmse);
+  ASSERT_GT(sharp.card, 200);
+  ASSERT_GT(sharp.black, 200);
+  // Measured 0.103 (refinement off: 0.248, which fails this bar); what remains is mostly the
+  // level-3 Haar cells (11 degrees) against a lobe of 2.6 degrees and the display's corner values.
+  EXPECT_LE(sharp.relRmse, 0.15);
+}

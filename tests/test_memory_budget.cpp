@@ -149,7 +149,11 @@ TEST(MemoryBudget, AGlossySolvesDirectionalDetailFollowsTheBudget) {
   if (kAsan) GTEST_SKIP() << "resident memory under AddressSanitizer is not the program's";
   const std::string dir = testutil::testDir().string();
   const std::string solve = "solve " + std::string(GHR_SOURCE_DIR) +
-                            "/scenes/glossy_cornell.json --quiet --algorithm is --dir-eps 0.05 --dir-max-level 5 --eps 1e-7 ";
+                            "/scenes/glossy_cornell.json --quiet --algorithm is --dir-eps 0.05 --dir-max-level 5 --eps 1e-7 "
+                            "--reflection-refine off ";
+  // Without the oracle's reflection term: with it the glossy block's links take most of any budget
+  // on this scene (150 and 250 MB both stopped at directional level 3, eps 1.6e-4 and 2.4e-4), which
+  // is the budget's choice to make, not the steering this test checks (docs/glossy.md).
   std::string out;
   // Exit 0 also says the peak stayed within 10 % of the budget (exit 3 otherwise): without the
   // steering the 60 MB run peaked at 2.1 x (levels raised with the threshold, outputs not counted).

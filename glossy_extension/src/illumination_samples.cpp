@@ -28,6 +28,7 @@ std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOpti
 
 void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) {
   basis_ = parseIsOptions(values);
+  refineReflections_ = parseReflectionRefine(values);
   finestLevel_ = basis_.haar.maxLevel;
 }
 
@@ -41,6 +42,14 @@ void IlluminationSamples::limitDirectionalLevels(int levels) {
 
 bool IlluminationSamples::simulates(const hr::MaterialInfo& m) const {
   return hr::maxComponent(m.specular) > 0.0 && std::isfinite(m.exponent) && m.exponent >= 0.0;
+}
+
+hr::Reflector IlluminationSamples::reflector(const hr::MaterialInfo& m) const {
+  if (!refineReflections_ || !simulates(m)) return {};
+  // A Phong lobe cos^n falls to 1/e at sqrt(2/n) from the mirror direction; the normalised lobe's
+  // albedo is at most its specular coefficient (at normal incidence).
+  double width = m.exponent > 0.0 ? std::min(0.5 * kPi, std::sqrt(2.0 / m.exponent)) : 0.5 * kPi;
+  return {std::min(1.0, hr::luminance(m.specular)), width};
 }
 
 void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {

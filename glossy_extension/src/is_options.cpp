@@ -61,6 +61,8 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
       {"dir-max-level", "haar: maximum subdivision level (0-8, at least dir-min-level; default 3)"},
       {"tetra-level", "tetra: subdivision level of the tetrahedron (0-8, default 3)"},
       {"sh-order", "sh: spherical harmonics order, bands 0 to order-1 (1-32, default 8)"},
+      {"reflection-refine", "on (default) or off: the host's oracle splits a glossy receiver, or its sender, seen from "
+                            "directions further apart than the receiver's lobe (docs/glossy.md)"},
   };
 }
 
@@ -102,6 +104,15 @@ BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values) {
   if (auto it = given.find("tetra-level"); it != given.end()) b.tetraLevel = parseInt(*it->second, 0, TetraMesh::kMaxLevel);
   if (auto it = given.find("sh-order"); it != given.end()) b.shOrder = parseInt(*it->second, 1, ShDistribution::kMaxOrder);
   return b;
+}
+
+bool parseReflectionRefine(const std::vector<hr::OptionValue>& values) {
+  for (const auto& v : values)
+    if (v.name == "reflection-refine") {
+      if (v.value != "on" && v.value != "off") fail(v.name, "must be on or off, got '" + v.value + "'");
+      return v.value == "on";
+    }
+  return true;
 }
 
 void validateIsBasis(const BasisSpec& b, const std::string& context) {

@@ -3,6 +3,8 @@
 // the option (and says why), like `glossyhr lobe` does.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "fake_host.h"
 
 namespace {
@@ -20,7 +22,23 @@ TEST(IsOptions, DefaultsAreThePapersSolvingSettings) {
   EXPECT_EQ(ext->name(), "is");
   std::vector<std::string> names;
   for (const auto& o : ext->options()) names.push_back(o.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"basis", "dir-eps", "dir-min-level", "dir-max-level", "tetra-level", "sh-order"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"basis", "dir-eps", "dir-min-level", "dir-max-level", "tetra-level", "sh-order",
+                                             "reflection-refine"}));
+}
+
+/// What the host's oracle is told of a material (docs/glossy.md, "The reflection term"): the lobe's
+/// 1/e half-width sqrt(2/n) and the specular albedo's luminance; nothing for a material it does not
+/// simulate or with --reflection-refine off.
+TEST(IsOptions, ReflectorGivesTheLobesWidthUnlessTurnedOff) {
+  const hr::MaterialInfo glossyMat{hr::Rgb(0.2), hr::Rgb(0.6), 300.0, hr::Rgb(0.0)};
+  const hr::MaterialInfo diffuseMat{hr::Rgb(0.7), hr::Rgb(0.0), 1.0, hr::Rgb(0.0)};
+  auto on = testhost::configured();
+  const hr::Reflector r = on->reflector(glossyMat);
+  EXPECT_NEAR(r.width, std::sqrt(2.0 / 300.0), 1e-12);
+  EXPECT_NEAR(r.albedo, 0.6, 1e-9);
+  EXPECT_EQ(on->reflector(diffuseMat).albedo, 0.0);
+  auto off = testhost::configured({{"reflection-refine", "off"}});
+  EXPECT_EQ(off->reflector(glossyMat).albedo, 0.0);
 }
 
 TEST(IsOptions, AcceptedValues) {
@@ -86,7 +104,11 @@ TEST(IsOptions, RefusedValuesNameTheOption) {
       {{{"basis", "sh"}, {"sh-order", "0"}}, "--sh-order: must be an integer from 1 to 32, got '0'"},
       {{{"basis", "sh"}, {"sh-order", "33"}}, "--sh-order: must be an integer from 1 to 32, got '33'"},
       {{{"dir-eps", "0.1"}, {"dir-eps", "0.2"}}, "--dir-eps: given twice"},
-      {{{"eps", "0.1"}}, "--eps: not an option of --algorithm is (valid: basis, dir-eps, dir-min-level, dir-max-level, tetra-level, sh-order)"},
+      {{{"reflection-refine", "yes"}}, "--reflection-refine: must be on or off, got 'yes'"},
+      {{{"reflection-refine", "on"}, {"reflection-refine", "off"}}, "--reflection-refine: given twice"},
+      {{{"eps", "0.1"}},
+       "--eps: not an option of --algorithm is (valid: basis, dir-eps, dir-min-level, dir-max-level, tetra-level, sh-order, "
+       "reflection-refine)"},
   };
   for (const Row& r : rows) {
     glossy::IlluminationSamples ext;

@@ -44,6 +44,33 @@ struct Solver::Impl {
     for (std::size_t c = s.h.clusters().size(); c-- > 0;)
       for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
         s.clusterOwned[c] |= k.isCluster() ? s.clusterOwned[k.index()] : s.owned[k.index()];
+    markReflectors();
+  }
+
+  /// Each simulated material's Reflector and each cluster's sharpest one (largest albedo, narrowest
+  /// lobe, not necessarily of one material: a bound for the oracle). Left empty when no material
+  /// has one, so the oracle's reflection term costs nothing then.
+  void markReflectors() {
+    std::vector<Reflector> m(s.scene.materials.size());
+    bool any = false;
+    for (std::uint32_t i = 0; i < m.size(); ++i) {
+      const MaterialInfo info = material(i);
+      if (!s.ext->simulates(info)) continue;
+      m[i] = s.ext->reflector(info);
+      if (!(m[i].albedo > 0.0 && std::isfinite(m[i].albedo) && m[i].width > 0.0 && std::isfinite(m[i].width))) m[i] = {};
+      any = any || m[i].albedo > 0.0;
+    }
+    if (!any) return;
+    s.materialReflector = std::move(m);
+    s.clusterReflector.assign(s.h.clusters().size(), Reflector{0.0, kPi});
+    auto merge = [](Reflector& a, const Reflector& b) {
+      if (b.albedo <= 0.0) return;
+      a.albedo = std::max(a.albedo, b.albedo);
+      a.width = std::min(a.width, b.width);
+    };
+    for (std::size_t c = s.h.clusters().size(); c-- > 0;)
+      for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
+        merge(s.clusterReflector[c], k.isCluster() ? s.clusterReflector[k.index()] : s.reflector(k));
   }
 
   static PhaseStat stat(const detail::PhaseClock& c) { return {c.wall, c.cpu, c.threads()}; }

@@ -104,6 +104,9 @@ struct SolverState {
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
   std::vector<std::uint8_t> owned;    // per element: its subtree holds a surface the extension simulates
   std::vector<std::uint8_t> clusterOwned;
+  // How sharply simulated surfaces reflect (Extension::reflector), per material and per cluster (its
+  // surfaces' largest albedo and narrowest lobe); empty without an extension that asks for it.
+  std::vector<Reflector> materialReflector, clusterReflector;
   LinkArray links;            // sorted by receiver after refinement
   std::vector<std::uint32_t> groupStart;  // receivers' link ranges in links
   double emittedPower = 0.0;             // luminance, W
@@ -132,6 +135,12 @@ struct SolverState {
   }
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
+  /// A simulated node's Reflector (albedo 0 when none is known).
+  Reflector reflector(NodeId n) const {
+    if (materialReflector.empty()) return {};
+    if (n.isCluster()) return clusterReflector[n.index()];
+    return materialReflector[h.patches()[h.element(n.index()).patch].material];
+  }
   bool isOwned(NodeId n) const { return n.isCluster() ? clusterOwned[n.index()] != 0 : owned[n.index()] != 0; }
   /// Clusters of at most this many patches send their exact Lambertian intensity (a sum of cosine
   /// lobes) instead of a table: more accurate, and 85 % of the Soda Shoppe's clusters need no table.

@@ -23,6 +23,17 @@ struct IncidentSample {
   Rgb irradiance{0.0};   // W/m^2, visibility included
 };
 
+/// How sharply a simulated material reflects, for the host's oracle: the share of incident light its
+/// lobe sends on (luminance, at most 1) and the lobe's angular half-width, rad. An Illumination Sample
+/// carries one direction per link (receiver to the sender's centre) and every receiver leaf reflects
+/// it as one lobe over its whole area, so a link whose sender is seen wider than the lobe, or whose
+/// receiver sees the sender from directions further apart than the lobe, blurs and misplaces the
+/// reflected image (a mirror's reflection of a near object came out as blobs). Albedo 0: no term.
+struct Reflector {
+  double albedo = 0.0;
+  double width = 0.0;
+};
+
 struct OptionSpec {
   std::string name;  // without dashes, e.g. "dir-eps"
   std::string help;
@@ -51,6 +62,8 @@ class Extension {
   virtual void configure(const std::vector<OptionValue>&) {}
   /// Whether the extension simulates a part of this material; samples reach only such subtrees.
   virtual bool simulates(const MaterialInfo&) const { return false; }
+  /// How sharply a material it simulates reflects (Reflector); the default asks no refinement.
+  virtual Reflector reflector(const MaterialInfo&) const { return {}; }
   /// The node set changed (after every refinement pass): size side tables. Serial.
   virtual void attach(const HostView&) {}
   /// A leaf was split into children (already readable in the view): hand its light down so a new

@@ -37,6 +37,7 @@ class IlluminationSamples : public hr::Extension {
   std::vector<hr::OptionSpec> options() const override;
   void configure(const std::vector<hr::OptionValue>& values) override;
   bool simulates(const hr::MaterialInfo& m) const override;
+  hr::Reflector reflector(const hr::MaterialInfo& m) const override;
   void attach(const hr::HostView& view) override;
   void split(hr::NodeId parent, std::span<const hr::NodeId> children) override;
   void limitDirectionalLevels(int levels) override;
@@ -139,6 +140,7 @@ class IlluminationSamples : public hr::Extension {
   std::unique_ptr<Counters> counters_;
   double peakHeld_ = 0.0;
   int finestLevel_;  // the configured --dir-max-level; basis_.haar.maxLevel may be held below it (budget)
+  bool refineReflections_ = true;  // --reflection-refine: the Reflector the host's oracle reads (else none)
 };
 
 }  // namespace glossy

@@ -21,6 +21,10 @@ std::vector<hr::OptionSpec> isOptionSpecs();
 /// Parses the options given (names without dashes); throws hr::InputError naming the option.
 BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values);
 
+/// Whether --reflection-refine is on (the default); throws hr::InputError for a value not on/off.
+/// parseIsOptions has checked the names and that none is given twice.
+bool parseReflectionRefine(const std::vector<hr::OptionValue>& values);
+
 /// Checks a basis as a solution file states it; throws hr::InputError prefixed by `context`.
 void validateIsBasis(const BasisSpec& b, const std::string& context);
 
