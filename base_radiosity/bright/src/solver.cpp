@@ -54,7 +54,7 @@ struct Solver::Impl {
     std::vector<Reflector> m(s.scene.materials.size());
     bool any = false;
     for (std::uint32_t i = 0; i < m.size(); ++i) {
-      const MaterialInfo info = material(i);
+      const MaterialInfo info = view.material(i);
       if (!s.ext->simulates(info)) continue;
       m[i] = s.ext->reflector(info);
       if (!(m[i].albedo > 0.0 && std::isfinite(m[i].albedo) && m[i].width > 0.0 && std::isfinite(m[i].width))) m[i] = {};
