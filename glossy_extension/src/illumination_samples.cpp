@@ -6,6 +6,7 @@
 #include <glossy/haar_sum.h>
 #include <glossy/illumination_samples.h>
 #include <glossy/is_options.h>
+#include <glossy/lobe_level.h>
 #include <glossy/reflection.h>
 
 #include "is_counters.h"
@@ -18,10 +19,13 @@ namespace {
 
 bool usableNormal(const Vec3& n) { return hr::allFinite(n) && std::abs(glm::length(n) - 1.0) < 1e-6; }
 
+/// The finest level any material may get: the given --dir-max-level, else the lobe rule's finest.
+int levelCap(const BasisSpec& b) { return b.haarLevelGiven ? b.haar.maxLevel : std::max(b.haar.minLevel, kLobeLevelFinest); }
+
 }  // namespace
 
 IlluminationSamples::IlluminationSamples()
-    : basis_(defaultIsBasis()), counters_(std::make_unique<Counters>()), finestLevel_(basis_.haar.maxLevel) {}
+    : basis_(defaultIsBasis()), counters_(std::make_unique<Counters>()), finestLevel_(levelCap(basis_)) {}
 IlluminationSamples::~IlluminationSamples() = default;
 
 std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOptionSpecs(); }
@@ -29,15 +33,47 @@ std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOpti
 void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) {
   basis_ = parseIsOptions(values);
   refineReflections_ = parseReflectionRefine(values);
-  finestLevel_ = basis_.haar.maxLevel;
+  finestLevel_ = levelCap(basis_);
+  budgetLevels_ = -1;
+  basis_.haar.maxLevel = levelFor(0.0);
 }
 
 void IlluminationSamples::limitDirectionalLevels(int levels) {
   // Only Haar distributions have levels to steer. --basis auto weighed each material's bases at the
   // configured levels (autoChoice): other levels would undo the ground of its choice.
   if (basis_.automatic || basis_.basis != Basis::Haar) return;
+  // The budget caps every material's own level (a sharp material's fine cells are what it takes back).
+  budgetLevels_ = levels;
+  if (view_)
+    chooseLevels(*view_);
+  else
+    basis_.haar.maxLevel = levelFor(0.0);
+}
+
+int IlluminationSamples::levelFor(double exponent) const {
   const int lo = basis_.haar.minLevel;
-  basis_.haar.maxLevel = levels < 0 ? finestLevel_ : std::clamp(lo + levels, lo, finestLevel_);
+  int level = basis_.haarLevelGiven ? finestLevel_ : std::min(lobeLevel(exponent, lo), finestLevel_);
+  if (budgetLevels_ >= 0) level = std::min(level, lo + budgetLevels_);
+  return std::max(level, lo);
+}
+
+void IlluminationSamples::chooseLevels(const hr::HostView& view) {
+  materialLevel_.assign(view.materialCount(), -1);
+  int finest = -1, coarsest = -1;
+  for (std::uint32_t m = 0; m < view.materialCount(); ++m) {
+    hr::MaterialInfo info = view.material(m);
+    if (!simulates(info)) continue;
+    materialLevel_[m] = levelFor(info.exponent);
+    if (materialBasis(m) != Basis::Haar) continue;
+    finest = std::max(finest, materialLevel_[m]);
+    coarsest = coarsest < 0 ? materialLevel_[m] : std::min(coarsest, materialLevel_[m]);
+  }
+  basis_.haar.maxLevel = finest >= 0 ? finest : levelFor(0.0);
+  pullFloor_ = coarsest >= 0 ? coarsest : basis_.haar.maxLevel;
+}
+
+int IlluminationSamples::materialLevel(std::uint32_t id) const {
+  return id < materialLevel_.size() && materialLevel_[id] >= 0 ? materialLevel_[id] : basis_.haar.maxLevel;
 }
 
 bool IlluminationSamples::simulates(const hr::MaterialInfo& m) const {
@@ -64,14 +100,20 @@ void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {
 
 void IlluminationSamples::chooseBases(const hr::HostView& view) {
   materialBasis_.assign(view.materialCount(), basis_.basis);
-  if (!basis_.automatic) return;
-  for (std::uint32_t m = 0; m < view.materialCount(); ++m) {
-    hr::MaterialInfo info = view.material(m);
-    if (!simulates(info)) continue;
-    auto it = std::find_if(autoChoices_.begin(), autoChoices_.end(), [&](const auto& c) { return c.first == info.exponent; });
-    if (it == autoChoices_.end()) it = autoChoices_.insert(it, {info.exponent, autoChoice(info.exponent, basis_)});
-    materialBasis_[m] = it->second.basis;
-  }
+  if (basis_.automatic)
+    for (std::uint32_t m = 0; m < view.materialCount(); ++m) {
+      hr::MaterialInfo info = view.material(m);
+      if (!simulates(info)) continue;
+      auto it = std::find_if(autoChoices_.begin(), autoChoices_.end(), [&](const auto& c) { return c.first == info.exponent; });
+      if (it == autoChoices_.end()) {
+        // Haar is weighed at the level this material would get (the level is a function of the exponent).
+        BasisSpec spec = basis_;
+        spec.haar.maxLevel = levelFor(info.exponent);
+        it = autoChoices_.insert(it, {info.exponent, autoChoice(info.exponent, spec)});
+      }
+      materialBasis_[m] = it->second.basis;
+    }
+  chooseLevels(view);
 }
 
 Basis IlluminationSamples::materialBasis(std::uint32_t id) const {
@@ -174,7 +216,8 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   auto l = std::make_unique<NodeLight>();
   l->normal = info.normal;
   l->area = info.area;
-  const BasisSpec spec = basis_.with(materialBasis(info.material));
+  BasisSpec spec = basis_.with(materialBasis(info.material));
+  spec.haar.maxLevel = materialLevel(info.material);
   l->frame = spec.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
   ReflectCounts rc;
   double n = representableExponent(spec, m.exponent);
@@ -272,8 +315,14 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
       terms.push_back({&std::get<HaarDistribution>(c->dist), c->frame});
       if (!planar && !c->frame.same(target)) target = Frame::world();
     }
+    // As fine as the finest part (a sharp material's lobes are not coarsened on the way up), never
+    // coarser than the coarsest material's level (a re-projection into another frame may need it).
+    int depth = 0;
+    for (const HaarTerm& t : terms) depth = std::max(depth, t.tree->depth());
+    HaarOptions o = basis_.haar;
+    o.maxLevel = std::clamp(depth, std::min(pullFloor_, o.maxLevel), o.maxLevel);
     HaarSumStats hs;
-    l->dist = haarSum(terms, target, basis_.haar, &hs);
+    l->dist = haarSum(terms, target, o, &hs);
     l->frame = target;
     Counters::add(counters_->pullCells, hs.cells);
     Counters::add(counters_->pullClips, hs.clips);
@@ -388,7 +437,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"reflect_cpu_seconds_summed_over_threads", v(c.reflectCpuNs) * 1e-9},
       {"pull_cpu_seconds_summed_over_threads", v(c.pullCpuNs) * 1e-9},
       {"distribution_parts_in_other_bases", mixedNodes},
-      {"dir_max_level_used", double(basis_.haar.maxLevel)},  // below --dir-max-level under a tight memory budget
+      {"dir_max_level_used", double(basis_.haar.maxLevel)},  // the finest of the materials' levels (budget: held lower)
   };
   // Which basis each glossy material's leaves hold (the choice --basis auto made, or the one given).
   if (view_)
@@ -404,6 +453,9 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
           std::snprintf(text, sizeof text, "%s (auto, exponent %g; lobe l2 error haar %.3f, tetra %.3f, sh %.3f)",
                         basisName(choice.basis), exponent, choice.l2RelError[0], choice.l2RelError[1], choice.l2RelError[2]);
       out.push_back({key, std::string(text)});
+      // The finest Haar level its leaves are refined to (lobe_level.h, or --dir-max-level, or the budget's).
+      if (materialBasis(m) == Basis::Haar)
+        out.push_back({"dir_max_level_material_" + std::to_string(m) + (name.empty() ? "" : "_" + name), double(materialLevel(m))});
     }
   return out;
 }

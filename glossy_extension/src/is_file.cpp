@@ -202,6 +202,8 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
   }
   // Everything read: only now replace the state. The section states the basis its data are in.
   basis_ = b;
+  finestLevel_ = b.haar.maxLevel;  // the finest level saved: a cap for the materials' own levels
+  budgetLevels_ = -1;
   view_ = &view;
   chooseBases(view);  // materials without records; those with records keep the basis they were solved in
   for (const auto& [material, basis] : seen) materialBasis_[material] = basis;

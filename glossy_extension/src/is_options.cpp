@@ -58,7 +58,9 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
                 "from its exponent; docs/directional.md)"},
       {"dir-eps", "haar: relative refinement threshold of the distributions (> 0; default 0.5)"},
       {"dir-min-level", "haar: minimum subdivision level (0-8, default 1)"},
-      {"dir-max-level", "haar: maximum subdivision level (0-8, at least dir-min-level; default 3)"},
+      {"dir-max-level", "haar: maximum subdivision level (0-8, at least dir-min-level), a hard cap for every material when "
+                        "given; default per material from its lobe width sqrt(2/n): the coarsest level whose cells are no "
+                        "wider, within 3-5 (n = 60 -> 3, 300 -> 4, 500 -> 5; docs/glossy.md)"},
       {"tetra-level", "tetra: subdivision level of the tetrahedron (0-8, default 3)"},
       {"sh-order", "sh: spherical harmonics order, bands 0 to order-1 (1-32, default 8)"},
       {"reflection-refine", "on (default) or off: the host's oracle splits a glossy receiver, or its sender, seen from "
@@ -94,7 +96,10 @@ BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values) {
     if (!(b.haar.eps > 0.0)) fail("dir-eps", "must be > 0, got " + it->second->value);
   }
   if (auto it = given.find("dir-min-level"); it != given.end()) b.haar.minLevel = parseInt(*it->second, 0, kMaxDirLevel);
-  if (auto it = given.find("dir-max-level"); it != given.end()) b.haar.maxLevel = parseInt(*it->second, 0, kMaxDirLevel);
+  if (auto it = given.find("dir-max-level"); it != given.end()) {
+    b.haar.maxLevel = parseInt(*it->second, 0, kMaxDirLevel);
+    b.haarLevelGiven = true;
+  }
   if (b.haar.minLevel > b.haar.maxLevel) {
     bool minGiven = given.count("dir-min-level") != 0;
     fail(minGiven ? "dir-min-level" : "dir-max-level",

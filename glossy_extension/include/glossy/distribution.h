@@ -40,6 +40,10 @@ struct BasisSpec {
   /// --basis auto: each glossy material gets the basis basis_rule.h picks for its exponent (with the
   /// settings above); `basis` is then only the default of code that projects without a material.
   bool automatic = false;
+  /// --dir-max-level was given: haar.maxLevel is a hard cap for every material. Otherwise each glossy
+  /// material gets its own finest level from its lobe's width (lobe_level.h), haar.maxLevel being the
+  /// finest of those in use.
+  bool haarLevelGiven = false;
   std::string describe() const;
   /// This spec for one basis (not automatic): what a node of that basis is projected with.
   BasisSpec with(Basis b) const {

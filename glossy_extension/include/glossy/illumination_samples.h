@@ -74,6 +74,9 @@ class IlluminationSamples : public hr::Extension {
   /// The basis the leaves of material `id` are projected in (the configured one, or auto's choice);
   /// valid after attach or load.
   Basis materialBasis(std::uint32_t id) const;
+  /// The finest Haar level the leaves of material `id` are refined to: --dir-max-level when given,
+  /// else from its lobe's width (lobe_level.h); either held lower by a memory budget. Valid after attach.
+  int materialLevel(std::uint32_t id) const;
 
   /// One node's directional exitant light.
   struct NodeLight {
@@ -111,6 +114,10 @@ class IlluminationSamples : public hr::Extension {
   void finish(NodeLight& l) const;
   /// Chooses the basis of every material of the view (attach, load).
   void chooseBases(const hr::HostView& view);
+  /// Each material's finest Haar level (chooseBases calls it; the budget's steering too).
+  void chooseLevels(const hr::HostView& view);
+  /// The level of a material of Phong exponent n under the options and the budget.
+  int levelFor(double exponent) const;
   /// The sum of lights that all hold one basis, as `node`'s light in that basis.
   NodeLight sumOneBasis(hr::NodeId node, Basis b, std::span<const NodeLight* const> parts) const;
   /// Sizes every per-node table (they only grow).
@@ -139,7 +146,10 @@ class IlluminationSamples : public hr::Extension {
   std::vector<Rgb> change_;  // per element, W: |power change| of the latest reflect (leaves)
   std::unique_ptr<Counters> counters_;
   double peakHeld_ = 0.0;
-  int finestLevel_;  // the configured --dir-max-level; basis_.haar.maxLevel may be held below it (budget)
+  int finestLevel_;  // the given --dir-max-level, else the lobe rule's finest; no material's level exceeds it
+  int budgetLevels_ = -1;  // the memory budget's levels above dir-min-level (limitDirectionalLevels), -1: none
+  std::vector<int> materialLevel_;  // per material of the view, -1 for one not simulated
+  int pullFloor_ = 3;  // the coarsest Haar material's level: sums are never projected coarser
   bool refineReflections_ = true;  // --reflection-refine: the Reflector the host's oracle reads (else none)
 };
 
