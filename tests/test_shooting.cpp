@@ -187,3 +187,53 @@ TEST(Shooting, APassPushesOnlyTheRoomItLitAndChangesNothingElse) {
 }
 
 }  // namespace
+
+namespace {
+
+/// emitted - absorbed - escaped over emitted, green (the energy audit's imbalance).
+double imbalance(const testutil::Solved& r) {
+  return (r.stats.emittedW.y - r.stats.absorbedW.y - r.stats.escapedW.y) / r.stats.emittedW.y;
+}
+
+// A closed room with a lamp and two blocks, and an empty closed box 10 m away. The cluster tree splits
+// patches at the median, so the room's wall at x = 1 shares clusters with the far box; a shooter's
+// single link to the root cluster is refined down through them. A wall or floor linked to such a
+// cluster (its centre 7 m off, the wall it holds 1 m or less away) was judged by the far-field g^2
+// law and gave that wall 0.15-4 % of the light it should get: shooting lost 17.7 % (one shooter a
+// pass) and 22 % (default fraction) of the emitted power at eps 1e-3, gathering 2.4 % (the room
+// alone: -0.6 %), and room A's objects differed by up to 17 % between the schemes. Now -0.8 %,
+// -0.7 % and 0.4 %. Both must balance within 1 %; the objects' bar (3 %, after the fix 1.0 % and
+// 2.4 %) is the two schemes' own discretisation difference at this coarse threshold (the Cornell box
+// test above: 0.9 % at 2e-4).
+TEST(Shooting, ASecondEnclosureLosesNoLight) {
+  const std::string json = R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
+    "objects": [
+      { "type": "box", "material": "w", "min": [0,0,0], "max": [1,1,1], "facing": "inward" },
+      { "type": "quad", "material": "e", "vertices": [[0.4,0.99,0.4],[0.6,0.99,0.4],[0.6,0.99,0.6],[0.4,0.99,0.6]] },
+      { "type": "box", "material": "w", "min": [0.3,0,0.3], "max": [0.5,0.4,0.5] },
+      { "type": "box", "material": "w", "min": [0.6,0,0.6], "max": [0.8,0.2,0.8] },
+      { "type": "box", "material": "w", "min": [10,0,0], "max": [11,1,1], "facing": "inward" } ] })";
+  hr::SolverOptions o = testutil::options(1e-3, 5);
+  o.tolerance = 1e-4;
+  o.maxIterations = 2000;
+  auto g = testutil::solveText(json, o);
+  ASSERT_TRUE(g.stats.converged);
+  for (double fraction : {1.0, hr::SolverOptions{}.shootFraction}) {
+    o.shootFraction = fraction;
+    auto s = testutil::solveText(json, shooting(o));
+    ASSERT_TRUE(s.stats.converged) << "fraction " << fraction;
+    // Room A's objects (the box B stays dark, a ratio of two leaks: its light is bounded below).
+    double worst = 0.0;
+    for (std::uint32_t obj = 0; obj < 4; ++obj)
+      worst = std::max(worst, std::abs(s.meanRadiosity(obj).y / g.meanRadiosity(obj).y - 1.0));
+    std::printf("  box B: shoot %.3g gather %.3g W/m^2, room A walls %.3g\n", s.meanRadiosity(4).y, g.meanRadiosity(4).y,
+                g.meanRadiosity(0).y);
+    std::printf("second enclosure, eps 1e-3, shoot fraction %.2f: imbalance shoot %.3g gather %.3g, worst object %.3g\n",
+                fraction, imbalance(s), imbalance(g), worst);
+    EXPECT_LT(std::abs(imbalance(s)), 0.01) << "fraction " << fraction;
+    EXPECT_LT(worst, 0.03) << "fraction " << fraction;
+  }
+  EXPECT_LT(std::abs(imbalance(g)), 0.02);
+}
+
+}  // namespace
