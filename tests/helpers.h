@@ -38,8 +38,10 @@ struct Solved {
     for (std::size_t i = 0; i < h->elements().size(); ++i) {
       const auto& e = h->element(static_cast<std::uint32_t>(i));
       if (!e.leaf() || h->patches()[e.patch].object != object) continue;
-      sum += e.area * solver->radiosity()[i];
-      a += e.area;
+      // Over the open part: a floor element straddling a box's foot has its radiosity there only.
+      const double open = e.area * solver->openFraction()[i];
+      sum += open * solver->radiosity()[i];
+      a += open;
     }
     return sum / a;
   }

@@ -110,7 +110,7 @@ void Accelerator::collectLeaves() {
   w_.resize(leaves_.size());
   forEach(leaves_.size(), [&](std::size_t k) {
     const Rgb& rho = s_.mat(leaves_[k]).diffuse;
-    w_[k] = els[leaves_[k]].area * rho * rho;
+    w_[k] = s_.openArea(leaves_[k]) * rho * rho;
   });
   clusterLinks_.clear();
   if (!enabled()) return;
@@ -133,7 +133,7 @@ double Accelerator::sweep() {
   forEach(n, [&](std::size_t k) {
     g_[k] = s_.Et[leaves_[k]];
     const std::uint32_t e = leaves_[k];
-    change[k] = s_.h.element(e).area * absLuminance(s_.mat(e).diffuse * (g_[k] - x_[k]));
+    change[k] = s_.openArea(e) * absLuminance(s_.mat(e).diffuse * (g_[k] - x_[k]));
   });
   double res = 0.0;
   for (double c : change) res += c;
@@ -148,7 +148,7 @@ void Accelerator::nodePower(const std::vector<Rgb>& x, std::vector<double>& P) c
   P.assign(E + s_.h.clusters().size(), 0.0);
   forEach(leaves_.size(), [&](std::size_t k) {
     const std::uint32_t e = leaves_[k];
-    P[e] = els[e].area * luminance(s_.emitted(e) + s_.mat(e).diffuse * x[k]);
+    P[e] = s_.openArea(e) * luminance(s_.emitted(e) + s_.mat(e).diffuse * x[k]);
   });
   // Children come after their parents (Hierarchy::subdivide appends): a reverse sweep sums them up.
   for (std::size_t e = E; e-- > 0;)

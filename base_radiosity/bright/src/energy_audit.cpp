@@ -29,22 +29,32 @@ int fate(const SolverState& s, const Element& e, const Vec3& o, const Vec3& d) {
 /// The leaf's Lambertian light: cosine-distributed rays.
 void auditLambertian(const SolverState& s, std::uint32_t i, double sent, LeafAudit& a) {
   const Element& e = s.h.element(i);
-  const Rgb P = s.B[i] * e.area;  // W leaving the leaf
+  // Radiosity is the open part's (SolverState::open): what leaves is traced from there, and a
+  // covered part's emission stays under its cover, absorbed by the cover's back.
+  const double f = s.open[i];
+  const Rgb P = s.B[i] * s.openArea(i);  // W leaving the leaf
+  a.back += s.emitted(i) * (e.area * (1.0 - f));
   if (maxComponent(P) <= 0.0) return;
   const int M = audit::raysFor(luminance(P), sent);
   a.rays += std::uint64_t(M);
   Rng rng(s.opt.seed ^ audit::kLambertianSeed, i);
   Vec3 u, v;
   audit::tangentFrame(e.normal, u, v);
-  int count[3] = {0, 0, 0};
+  int count[3] = {0, 0, 0}, fromOpen = 0;
   const double shift = rng.uniform();
   for (int k = 0; k < M; ++k) {
     Vec3 o = e.poly.sample(rng.uniform(), rng.uniform());
     Vec3 d = audit::latticeCosineDirection(e.normal, u, v, shift, k, M, rng.uniform());
+    if (f < 1.0 && s.vis.coverOf(e.patch, o) != kNone) continue;  // P leaves from the open part
     ++count[fate(s, e, o, d)];
+    ++fromOpen;
+  }
+  if (fromOpen == 0) {
+    a.back += P;  // no ray found the open part: too small to tell where its light goes
+    return;
   }
   const double weight[3] = {double(count[0]), double(count[1]), double(count[2])};
-  audit::addLambertian(a, P, weight, double(M));
+  audit::addLambertian(a, P, weight, double(fromOpen));
 }
 
 /// The extension's light at a simulated leaf: directions it samples itself, each standing for a
@@ -69,10 +79,9 @@ void auditExtension(const SolverState& s, std::uint32_t i, double sent, LeafAudi
 }
 
 LeafAudit auditLeaf(const SolverState& s, std::uint32_t i, double sent) {
-  const Element& e = s.h.element(i);
   LeafAudit a;
-  // Absorbed: what arrived, less what the Lambertian part and the extension send on.
-  a.absorbed = e.area * (Rgb(1.0) - s.mat(i).diffuse) * s.Et[i];
+  // Absorbed: what arrived (at the open part), less what the Lambertian part and the extension send on.
+  a.absorbed = s.openArea(i) * (Rgb(1.0) - s.mat(i).diffuse) * s.Et[i];
   auditLambertian(s, i, sent, a);
   if (s.ext && s.owned[i]) {
     a.absorbed -= s.ext->reflectedPower(NodeId{i});
@@ -89,7 +98,7 @@ audit::Totals auditEnergy(SolverState& s) {
   double sent = 0.0;
   for (std::size_t i = 0; i < els.size(); ++i) {
     if (!els[i].leaf()) continue;
-    sent += luminance(s.B[i]) * els[i].area;
+    sent += luminance(s.B[i]) * s.openArea(static_cast<std::uint32_t>(i));
     if (s.ext && s.owned[i]) sent += luminance(s.ext->reflectedPower(NodeId{static_cast<std::uint32_t>(i)}));
   }
   std::vector<LeafAudit> per(els.size());

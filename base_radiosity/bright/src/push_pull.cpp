@@ -198,7 +198,9 @@ class PushPull {
       m22 += w * (a.y * a.y + b.y * b.y + c.y * c.y + sum.y * sum.y);
     }
     const double det = m11 * m22 - m12 * m12;
-    if (!(det > 0.0)) {
+    // Across the edge of a coplanar cover the leaves' radiosity steps from the open part's to none:
+    // a line through that step would model the cover, not the light.
+    if (!(det > 0.0) || s_.open[e] < 1.0f) {
       s_.gradU[e] = s_.gradV[e] = Rgb(0.0);
       return;
     }
@@ -213,7 +215,9 @@ class PushPull {
   /// element from above (on its plane): the element adds its own links' samples, a leaf is
   /// reflected, an inner element pulled after its children (one traversal for all of them).
   Pulled element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
-    Rgb total = down + s_.Eg[e];
+    // A wholly covered element has no open part for light to arrive at (coplanar.h): its radiosity
+    // stays its emission, which its cover absorbs.
+    Rgb total = s_.open[e] > 0.0f ? down + s_.Eg[e] : Rgb(0.0);
     const Element& el = s_.h.element(e);
     // Shooting: the pass's irradiance adds to what arrived before.
     s_.Et[e] = shoot_ ? s_.Et[e] + total : total;
@@ -235,8 +239,9 @@ class PushPull {
       s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
       if (samples && shoot_ && !samples->empty()) s_.ext->reflectShot(NodeId{e}, *samples);
       if (samples && !shoot_) s_.ext->reflect(NodeId{e}, *samples);
-      result.power = s_.B[e] * el.area;
-      result.sent = shoot_ ? s_.U[e] * el.area : result.power;
+      // Radiosity is the open part's (SolverState::open): so is the power.
+      result.power = s_.B[e] * s_.openArea(e);
+      result.sent = shoot_ ? s_.U[e] * s_.openArea(e) : result.power;
     } else {
       Rgb sum(0.0), unshot(0.0);
       float lo = std::numeric_limits<float>::max(), hi = 0.0f;
@@ -254,23 +259,26 @@ class PushPull {
         for (std::uint32_t k = 0; k < 4; ++k) part[k] = element(el.firstChild + k, total, nullptr);
       }
       const Vec3 g = el.poly.areaCentroid();
+      double openSum = 0.0;
       for (std::uint32_t k = 0; k < 4; ++k) {
         const std::uint32_t c = el.firstChild + k;
         sum += part[k].power;
+        openSum += s_.openArea(c);
         const Vec3 d = s_.h.element(c).poly.areaCentroid() - g;
         result.sent += part[k].sent;
         for (int a = 0; a < 3; ++a) result.moment[a] += part[k].moment[a] + part[k].sent * d[a];
         lo = std::min(lo, s_.Bmin[c]);
         hi = std::max(hi, s_.Bmax[c]);
         if (shoot_) {
-          unshot += s_.U[c] * s_.h.element(c).area;
+          unshot += s_.U[c] * s_.openArea(c);
           ulo = std::min(ulo, s_.Umin[c]);
           uhi = std::max(uhi, s_.Umax[c]);
         }
       }
-      s_.B[e] = sum / el.area;
+      // The mean over the open part, where light arrives and leaves.
+      s_.B[e] = openSum > 0.0 ? sum / openSum : s_.emitted(e);
       s_.Bmin[e] = lo, s_.Bmax[e] = hi;
-      if (shoot_) s_.U[e] = unshot / el.area, s_.Umin[e] = ulo, s_.Umax[e] = uhi;
+      if (shoot_) s_.U[e] = openSum > 0.0 ? unshot / openSum : Rgb(0.0), s_.Umin[e] = ulo, s_.Umax[e] = uhi;
       if (samples) s_.ext->pull(NodeId{e}, s_.h.children(NodeId{e}));
       result.power = sum;
       fitGradient(e, g, result);
@@ -393,7 +401,7 @@ class PushPull {
   }
   void addPatch(float* t, std::uint32_t p) {
     const Patch& pt = s_.h.patches()[p];
-    addCosineLobe(t, pt.normal, s_.B[p] * (pt.area / kPi));
+    addCosineLobe(t, pt.normal, s_.B[p] * (s_.openArea(p) / kPi));  // (the root element of patch p has index p)
   }
 
   /// A small cluster's peak intensity, estimated in O(patches): its exact intensity toward the
@@ -405,7 +413,7 @@ class PushPull {
     double single = 0.0;
     for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
       const Patch& p = s_.h.patches()[s_.h.patchOrder()[i]];
-      double w = luminance(s_.B[s_.h.patchOrder()[i]]) * p.area;
+      double w = luminance(s_.B[s_.h.patchOrder()[i]]) * s_.openArea(s_.h.patchOrder()[i]);
       mean += p.normal * w;
       single = std::max(single, w / kPi);
     }

@@ -31,7 +31,7 @@ namespace {
 
 /// A patch's unshot power, W (luminance): its host light plus the extension's.
 double unshotPower(const SolverState& s, std::uint32_t p) {
-  double w = luminance(s.U[p]) * s.h.patches()[p].area;
+  double w = luminance(s.U[p]) * s.openArea(p);  // (the root element of patch p has index p)
   if (s.ext && s.owned[p]) w += luminance(s.ext->unshotPower(NodeId{p}));
   return w;
 }

@@ -33,7 +33,7 @@ struct Solver::Impl {
   Progress silent{true};
 
   Impl(const Scene& sc, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e, Progress* p)
-      : s(sc, hi, v, o, e), view(sc, hi), progress(p ? p : &silent) {}
+      : s(sc, hi, v, o, e), view(sc, hi, s.open), progress(p ? p : &silent) {}
 
   void markOwned() {
     s.clusterOwned.assign(s.h.clusters().size(), 0);
@@ -236,6 +236,7 @@ Solver::~Solver() = default;
 SolveStats Solver::solve() { return impl_->solve(); }
 const std::vector<Rgb>& Solver::radiosity() const { return impl_->s.B; }
 const std::vector<Rgb>& Solver::irradiance() const { return impl_->s.Et; }
+const std::vector<float>& Solver::openFraction() const { return impl_->s.open; }
 const HostView& Solver::view() const { return impl_->view; }
 
 }  // namespace hr

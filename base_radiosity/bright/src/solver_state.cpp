@@ -13,6 +13,19 @@
 
 namespace hr::detail {
 
+namespace {
+/// The fraction of an element's area outside every coplanar cover, from a fixed 16 x 16 grid of
+/// area-uniform points (deterministic).
+float openFraction(const Visibility& vis, const Element& e) {
+  constexpr int kGrid = 16;
+  int open = 0;
+  for (int a = 0; a < kGrid; ++a)
+    for (int b = 0; b < kGrid; ++b)
+      open += vis.coverOf(e.patch, e.poly.sample((a + 0.5) / kGrid, (b + 0.5) / kGrid)) == kNone ? 1 : 0;
+  return static_cast<float>(open) / float(kGrid * kGrid);
+}
+}  // namespace
+
 void SolverState::growArrays() {
   std::size_t n = h.elements().size();
   std::size_t old = B.size();
@@ -24,6 +37,7 @@ void SolverState::growArrays() {
   owned.resize(n, 0);
   Bmin.resize(n);
   Bmax.resize(n);
+  open.resize(n, 1.0f);
   const bool shoot = opt.iteration == Iteration::Shoot;
   if (shoot) U.resize(n), Umin.resize(n), Umax.resize(n);
   // New elements' parents are older elements (refinement subdivides leaves that exist, then grows;
@@ -35,6 +49,10 @@ void SolverState::growArrays() {
       B[i] = e.parent == kNone ? emitted(static_cast<std::uint32_t>(i)) : B[e.parent];
       Et[i] = e.parent == kNone ? Rgb(0.0) : Et[e.parent];
       owned[i] = e.parent == kNone ? 0 : owned[e.parent];
+      if (vis.partlyCovered(e.patch)) open[i] = openFraction(vis, e);
+      // A wholly covered child has no light but its emission (push_pull.cpp), whatever its parent's
+      // open part had: shooting adds to what a child inherits, and would keep that for good.
+      if (e.parent != kNone && open[i] == 0.0f) B[i] = emitted(static_cast<std::uint32_t>(i));
       Bmin[i] = Bmax[i] = static_cast<float>(luminance(B[i]));
       if (shoot) {
         // A root's unshot light is its emission; a child's is its parent's (unshot radiosity per area).
@@ -197,7 +215,7 @@ Rgb SolverState::clusterIntensity(std::uint32_t c, const Vec3& dir) const {
   for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
     std::uint32_t p = h.patchOrder()[i];  // the root element of patch p has index p
     double cs = glm::dot(h.patches()[p].normal, dir);
-    if (cs > 0.0) I += B[p] * (h.patches()[p].area * cs / kPi);
+    if (cs > 0.0) I += B[p] * (openArea(p) * cs / kPi);
   }
   return I;
 }

@@ -93,6 +93,9 @@ struct SolverState {
   // while shooting) about its area centroid, W/m^2 per m along planeAxes (0 for leaves; push_pull.cpp).
   std::vector<Rgb> gradU, gradV;
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
+  // Per element: the fraction of its area no coplanar patch covers (coplanar.h), 1 almost always;
+  // below 1 on a floor element straddling the foot of a box that stands on it (refine.cpp).
+  std::vector<float> open;
   // Shooting only (empty when gathering): per element, unshot radiosity (W/m^2) and its leaves' range.
   std::vector<Rgb> U;
   std::vector<float> Umin, Umax;
@@ -134,6 +137,8 @@ struct SolverState {
     return shooting ? ext->unshotIntensityBound(n, axis, cosHalfAngle) : ext->intensityBound(n, axis, cosHalfAngle);
   }
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
+  /// The area of element e no coplanar patch covers, m^2: what its radiosity and irradiance apply to.
+  double openArea(std::uint32_t e) const { return h.element(e).area * double(open[e]); }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
   /// A simulated node's Reflector (albedo 0 when none is known).
   Reflector reflector(NodeId n) const {
@@ -190,6 +195,7 @@ double catchingArea(const SolverState& s, const Link& l);
 /// Transfer evaluation of a new link: coefficient, bound, spread, direction, shadow rays. Returns the
 /// number of rays traced. Thread-safe (reads the state, writes only the link).
 int evaluateLink(const SolverState& s, Link& l);
+
 
 /// One refinement pass over every link: evaluates new links (parallel), decides (parallel), splits
 /// (serial structural step), until no link changes; then groups links by receiver. Returns splits.

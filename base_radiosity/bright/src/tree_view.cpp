@@ -15,7 +15,9 @@ NodeInfo TreeView::info(NodeId n) const {
   const Element& e = h_.element(n.index());
   i.center = e.center;
   i.normal = e.normal;
-  i.area = e.area;
+  // The area light arrives at and leaves from: an element partly under a coplanar cover (a floor
+  // element at a box's foot) has its radiosity, and so its reflected power, over its open part.
+  i.area = e.area * double(open_[n.index()]);
   i.planar = true;
   i.leaf = e.leaf();
   i.material = h_.patches()[e.patch].material;

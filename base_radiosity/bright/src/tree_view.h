@@ -11,7 +11,8 @@ namespace hr::detail {
 
 class TreeView final : public HostView {
  public:
-  TreeView(const Scene& scene, const Hierarchy& h) : scene_(scene), h_(h) {}
+  /// open: per element, the fraction of its area no coplanar patch covers (SolverState::open).
+  TreeView(const Scene& scene, const Hierarchy& h, const std::vector<float>& open) : scene_(scene), h_(h), open_(open) {}
   NodeId root() const override { return h_.root(); }
   NodeInfo info(NodeId n) const override;
   std::span<const NodeId> children(NodeId n) const override { return h_.children(n); }
@@ -24,6 +25,7 @@ class TreeView final : public HostView {
  private:
   const Scene& scene_;
   const Hierarchy& h_;
+  const std::vector<float>& open_;
 };
 
 }  // namespace hr::detail

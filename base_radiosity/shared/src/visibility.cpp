@@ -171,6 +171,7 @@ bool Visibility::escapes(const Vec3& org, const Vec3& dir) const {
 }
 
 std::uint32_t Visibility::coverOf(std::uint32_t p, const Vec3& x) const { return impl_->cover->coverOf(p, x); }
+bool Visibility::partlyCovered(std::uint32_t p) const { return impl_->cover->covers(p); }
 
 SurfaceHit Visibility::intersectFrom(const Vec3& org, const Vec3& dir, std::uint32_t from) const {
   FromContext c;

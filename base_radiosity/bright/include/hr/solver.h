@@ -21,8 +21,12 @@ class Solver {
   ~Solver();
   SolveStats solve();
 
-  /// Radiosity per element (W/m^2), valid for leaves and, area-averaged, for inner elements.
+  /// Radiosity per element (W/m^2), valid for leaves and, area-averaged, for inner elements; over
+  /// the element's open part (openFraction) where a coplanar patch covers some of it.
   const std::vector<Rgb>& radiosity() const;
+  /// Per element, the fraction of its area no coplanar patch covers (1 almost always; 0 under a
+  /// box's foot): what radiosity() and irradiance() apply to, and the weight of an area mean.
+  const std::vector<float>& openFraction() const;
   /// Irradiance per element (W/m^2) from the last push.
   const std::vector<Rgb>& irradiance() const;
   const HostView& view() const;

@@ -20,6 +20,8 @@ class CoplanarCover {
   CoplanarCover(const std::vector<Patch>& patches, double tolerance);
   /// The patch that covers point x of patch p, or kNone (almost always: no overlap at all).
   std::uint32_t coverOf(std::uint32_t p, const Vec3& x) const;
+  /// Whether any patch covers part of patch p.
+  bool covers(std::uint32_t p) const { return !cover_.empty() && first_[p + 1] > first_[p]; }
   bool any() const { return !cover_.empty(); }
   std::size_t pairs() const { return cover_.size(); }
 
