@@ -224,7 +224,7 @@ class Shot {
         const double shadow = est.mixed ? 2.0 * std::min(est.V, 1.0 - est.V) * est.unoccluded : 0.0;
         const bool sure = est.sigma * est.unoccluded <= s_.visTolerance;
         if ((gap + shadow <= limit && sure) || (!xSplits && !rSplits)) {
-          if (rSplits && est.quarters && !x.owned)
+          if (rSplits && est.quarters && !x.owned && !s_.owned(*r.e))
             held.push_back(Pending{std::move(x), est});
           else
             accept(r, est);
