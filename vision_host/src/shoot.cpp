@@ -104,10 +104,15 @@ class Shot {
     Sender x;
     Estimate est;
   };
+  /// Each quarter's irradiance over the receiver's mean, from the estimate's form factors.
+  static void quarterShares(const Estimate& est, double out[4]) {
+    const double F = 0.25 * (est.quarterF[0] + est.quarterF[1] + est.quarterF[2] + est.quarterF[3]);
+    for (int q = 0; q < 4; ++q) out[q] = F > 0.0 ? est.quarterF[q] / F : 1.0;
+  }
   /// Irradiance an estimate brings each quarter of its receiver (luminance, W/m^2).
   static void quarterE(const Pending& p, double out[4]) {
-    const double E = hr::luminance(p.est.E), F = 0.25 * (p.est.quarterF[0] + p.est.quarterF[1] + p.est.quarterF[2] + p.est.quarterF[3]);
-    for (int q = 0; q < 4; ++q) out[q] = F > 0.0 ? E * p.est.quarterF[q] / F : E;
+    quarterShares(p.est, out);
+    for (int q = 0; q < 4; ++q) out[q] *= hr::luminance(p.est.E);
   }
   /// Each interaction's gap is held to the budget, but near a concave edge every sender but the
   /// adjacent face lights the receiver's edge side less, so hundreds of interactions, each within
@@ -151,8 +156,8 @@ class Shot {
         down.push_back(std::move(held[k].x)), down.back().V = est.V;
         continue;
       }
-      const double F = 0.25 * (est.quarterF[0] + est.quarterF[1] + est.quarterF[2] + est.quarterF[3]);
-      for (int q = 0; q < 4; ++q) kept[q] += F > 0.0 ? est.E * (est.quarterF[q] / F) : est.E;
+      quarterShares(est, one);
+      for (int q = 0; q < 4; ++q) kept[q] += est.E * one[q];
     }
     held.clear();
     place(*r.e, kept, !down.empty());
