@@ -37,6 +37,9 @@ struct Sender {
   double share = 1.0;
   bool owned = false;
   Rgb X{0.0};
+  // The visible fraction, when an accepted interaction was handed down to the receiver's children
+  // only to place its light (shoot.cpp, settle); negative: trace it.
+  double V = -1.0;
   bool dark() const { return P == Rgb(0.0) && X == Rgb(0.0); }
 };
 
@@ -138,6 +141,10 @@ struct Estimate {
   double V = 1.0;           // visible fraction
   double sigma = 0.0;       // standard error of V
   bool mixed = false;       // some rays visible, some blocked
+  // Element receivers from an element sender: the mean form factor over each quarter of the
+  // receiver's parameter rectangle (u low/high + 2 * v low/high), how the light falls across it.
+  bool quarters = false;
+  double quarterF[4] = {0.0, 0.0, 0.0, 0.0};
 };
 Estimate estimate(const State& s, const Sender& snd, const Receiver& r);
 

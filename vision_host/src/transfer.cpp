@@ -2,7 +2,8 @@
 // averaged over the receiver by Gauss-Legendre points, each point's form factor by the contour
 // integral over the sender's outline (exact for flat senders; for curved ones while every sample
 // of the sender faces the point above its horizon, else split until each piece does or does not
-// face it, contour.cpp), times the visible fraction. With a cluster at either end: the
+// face it, contour.cpp), times the visible fraction; the same points give the mean over each quarter
+// of the receiver, where the light falls within it (shoot.cpp). With a cluster at either end: the
 // sender's unshot intensity over the squared distance between centroids (spreads corrected), the
 // receiver's cosine averaged over it. Visibility: shadow rays between points of the two nodes,
 // weighted by the point kernel, more rays while the visible fraction is uncertain by more than the
@@ -168,7 +169,7 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
     const int m = near ? 5 : 3;
     const double* node = near ? kGauss5 : kGauss3;
     const double* wt = near ? kWeight5 : kWeight3;
-    double fsum = 0.0, asum = 0.0;
+    double fsum = 0.0, asum = 0.0, qf[4] = {0.0, 0.0, 0.0, 0.0}, qa[4] = {0.0, 0.0, 0.0, 0.0};
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) {
         double u = r.u0 + node[i] * r.du(), v = r.v0 + node[j] * r.dv();
@@ -176,10 +177,19 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
         // A point of a concave surface inside the sender's own rectangle (an element lighting
         // itself or a part of itself) is enclosed by the sender's outline: see insideFormFactor.
         const bool inside = self && u > snd.rect.u0 && u < snd.rect.u1 && v > snd.rect.v0 && v < snd.rect.v1;
-        fsum += wq * (inside ? insideFormFactor(rs, snd.rect, u, v, rs.point(u, v), rs.normal(u, v)) : F(rs.point(u, v), rs.normal(u, v)));
+        const double f = inside ? insideFormFactor(rs, snd.rect, u, v, rs.point(u, v), rs.normal(u, v)) : F(rs.point(u, v), rs.normal(u, v));
+        fsum += wq * f;
         asum += wq;
+        // Quarters of the receiver's parameter rectangle; a point on a mid-line counts half to each.
+        for (int q = 0; q < 4; ++q) {
+          const double su = 2 * i + 1 == m ? 0.5 : ((q & 1) == (2 * i >= m) ? 1.0 : 0.0);
+          const double sv = 2 * j + 1 == m ? 0.5 : (((q >> 1) & 1) == (2 * j >= m) ? 1.0 : 0.0);
+          qf[q] += su * sv * wq * f, qa[q] += su * sv * wq;
+        }
       }
     const double ff = asum > 0.0 ? fsum / asum : 0.0;
+    est.quarters = true;
+    for (int q = 0; q < 4; ++q) est.quarterF[q] = qa[q] > 0.0 ? qf[q] / qa[q] : ff;
     Eun = snd.U * ff + extensionIrradiance(s, snd, *rc.e, ff);
   } else {
     // A cluster at one end: far field. The mean of 1/r^2 over both nodes exceeds 1/d^2 between
@@ -208,6 +218,12 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
   if (!(est.unoccluded > 0.0)) {
     est.E = Rgb(0.0);
     est.V = 0.0;
+    return est;
+  }
+  if (snd.V >= 0.0) {
+    // Handed down for where its light falls only: the visible fraction is the one traced above.
+    est.V = snd.V;
+    est.E = Eun * est.V;
     return est;
   }
   int K = std::clamp(s.opt.raysPerLink, 1, kMaxRays);
