@@ -125,10 +125,8 @@ class PushPull {
   /// counted along Hierarchy::patchOrder so that a cluster's share is a difference of two prefix
   /// counts. A cluster that received light changes every patch under it.
   void markTouched() {
-    const auto& order = s_.h.patchOrder();
-    const std::size_t P = order.size();
-    std::vector<std::uint32_t> pos(P);
-    for (std::uint32_t i = 0; i < P; ++i) pos[order[i]] = i;
+    const std::vector<std::uint32_t>& pos = s_.patchPos;
+    const std::size_t P = pos.size();
     std::vector<int> diff(P + 1, 0);
     auto mark = [&](std::uint32_t begin, std::uint32_t end) { ++diff[begin], --diff[end]; };
     for (std::size_t g = 0; g + 1 < s_.groupStart.size(); ++g) {
@@ -150,7 +148,6 @@ class PushPull {
       depth += diff[i];
       touchedBefore_[i + 1] = touchedBefore_[i] + (depth > 0);
     }
-    patchPos_ = std::move(pos);
   }
   bool touched(std::uint32_t begin, std::uint32_t end) const { return touchedBefore_[end] > touchedBefore_[begin]; }
 
@@ -342,7 +339,7 @@ class PushPull {
         cluster(kid.index(), here);
         return;
       }
-      const std::uint32_t at = prune_ ? patchPos_[s_.h.element(kid.index()).patch] : 0;
+      const std::uint32_t at = prune_ ? s_.patchPos[s_.h.element(kid.index()).patch] : 0;
       if (prune_ && !touched(at, at + 1)) {
         s_.pushSkipped.fetch_add(1, std::memory_order_relaxed);
         return;
@@ -427,7 +424,6 @@ class PushPull {
   const bool carry_;  // carry samples down to simulated leaves (not for an extension that reflects in gather)
   std::vector<ClusterSamples> samples_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> elemRange_;  // element receivers' links
-  std::vector<std::uint32_t> patchPos_;        // shooting: each patch's place in patchOrder
   std::vector<std::uint32_t> touchedBefore_;   // shooting: changed patches among patchOrder[0..i)
 };
 

@@ -141,7 +141,9 @@ double powerError(const SolverState& s, const Link& l, bool wholeSphere, const S
     // away, and a floor's link to it gave the wall it meets 0.15 % of the floor's light for its
     // 17 %; shooting lost 17 % of a room's power. So the error is also taken as that excess, capped
     // by all the power the sender sends (an element's area times its radiosity, a cluster's 4 pi
-    // times its peak intensity): no link can carry more.
+    // times its peak intensity): no link can carry more. Such an error has one sign, though, and
+    // many dim shooters each keep one such link: an element's is measured by rays once kept
+    // (refineLinks, measureOverlap).
     const double sendable = l.sender.isCluster() ? 4.0 * kPi * S : s.h.area(l.sender) * S;
     const double excess = g < 1.0 ? power * (1.0 / ((1.0 - g) * (1.0 - g)) - 1.0) : sendable;
     return std::max(power * g * g, std::min(excess, sendable));
@@ -500,6 +502,19 @@ std::size_t refineLinks(SolverState& s) {
       splitCount += receiverPass(s, kept, checkedFrom, pending, threshold);
       checkedFrom = kept.size();  // receivers checked now need no second look unless they gain links
     }
+  }
+  // A kept link whose element sender overlaps its receiver cluster is one the far-field model cannot
+  // carry (powerError let it stay because all its sender sends is under the threshold): it carries
+  // what rays measure instead. Measured once, after the decisions, so only kept links pay the rays.
+  {
+    PhaseTimer t(s.clkVisibility);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept.size(), 256), [&](const auto& r) {
+      s.clkVisibility.sawThread();
+      std::uint64_t n = 0;
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        if (needsMeasure(kept[i])) n += std::uint64_t(measureOverlap(s, kept[i]));
+      s.rays += n;
+    });
   }
   PhaseTimer t(s.clkRefine);
   s.links = std::move(kept);

@@ -33,6 +33,7 @@ struct Link {
   float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
+  bool measured = false;  // an overlapping element-to-cluster link's power was measured by rays (measureOverlap)
   // Where in each sender child the receiver sees it: the visible-kernel-weighted mean of the rays'
   // ends about the child's area centroid, along the child's plane axes, in 1/127 of its radius.
   std::int8_t seen[4][2] = {};
@@ -81,13 +82,16 @@ struct PhaseClock {
 
 struct SolverState {
   SolverState(const Scene& s, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e)
-      : scene(s), h(hi), vis(v), opt(o), ext(e) {}
+      : scene(s), h(hi), vis(v), opt(o), ext(e), patchPos(hi.patchOrder().size()) {
+    for (std::uint32_t i = 0; i < patchPos.size(); ++i) patchPos[h.patchOrder()[i]] = i;
+  }
   const Scene& scene;
   Hierarchy& h;
   const Visibility& vis;
   SolverOptions opt;
   Extension* ext;
 
+  std::vector<std::uint32_t> patchPos;  // per patch: its place in Hierarchy::patchOrder (cluster membership)
   std::vector<Rgb> B, Eg, Et;         // per element: radiosity, gathered and total irradiance
   // Per element: the least-squares linear fit of what its leaves send (radiosity; unshot radiosity
   // while shooting) about its area centroid, W/m^2 per m along planeAxes (0 for leaves; push_pull.cpp).
@@ -196,6 +200,14 @@ double catchingArea(const SolverState& s, const Link& l);
 /// number of rays traced. Thread-safe (reads the state, writes only the link).
 int evaluateLink(const SolverState& s, Link& l);
 
+/// Whether a kept link needs measureOverlap: an element sender, a cluster receiver and bounding
+/// spheres that overlap, (r_s + r_r) / d >= 1, not yet measured.
+inline bool needsMeasure(const Link& l) {
+  return !l.measured && !l.sender.isCluster() && l.receiver.isCluster() && l.geom >= 1.0f;
+}
+/// Replaces such a link's far-field coefficient by one that carries the power its sender really sends
+/// into the cluster, from cosine-distributed rays (transfer.cpp). Returns the rays traced.
+int measureOverlap(const SolverState& s, Link& l);
 
 /// One refinement pass over every link: evaluates new links (parallel), decides (parallel), splits
 /// (serial structural step), until no link changes; then groups links by receiver. Returns splits.
