@@ -149,11 +149,8 @@ TEST(Determinism, ShootingSameSeedSameAnswerForAnyThreadCount) {
 
 namespace {
 
-// Two closed rooms 10 m apart, each with its own lamp and a sphere: a pass of one shooter lights one
-// room, and its push/pull visits that room alone (the other is as the last pass left it). The answer
-// must be the one a push over everything gives, bit for bit; a subtree skipped that should have been
-// visited (light that reached a cluster over the sphere's patches, say) would change it.
-TEST(Shooting, APassPushesOnlyTheRoomItLitAndChangesNothingElse) {
+/// Two closed unit rooms 10 m apart along x, each with a lamp under its ceiling and a sphere.
+std::string twoRoomsWithSpheres() {
   auto room = [](double x) {
     const std::string lo = std::to_string(x), hi = std::to_string(x + 1.0), l0 = std::to_string(x + 0.4),
                       l1 = std::to_string(x + 0.6);
@@ -162,8 +159,16 @@ TEST(Shooting, APassPushesOnlyTheRoomItLitAndChangesNothingElse) {
            ",0.99,0.4],[" + l1 + ",0.99,0.6],[" + l0 + R"(,0.99,0.6]] }, { "type": "sphere", "material": "w", "center": [)" +
            std::to_string(x + 0.5) + ",0.3,0.5], \"radius\": 0.15 }";
   };
-  const std::string json = R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
+  return R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
     "objects": [ )" + room(0.0) + ", " + room(10.0) + " ] }";
+}
+
+// Two closed rooms 10 m apart, each with its own lamp and a sphere: a pass of one shooter lights one
+// room, and its push/pull visits that room alone (the other is as the last pass left it). The answer
+// must be the one a push over everything gives, bit for bit; a subtree skipped that should have been
+// visited (light that reached a cluster over the sphere's patches, say) would change it.
+TEST(Shooting, APassPushesOnlyTheRoomItLitAndChangesNothingElse) {
+  const std::string json = twoRoomsWithSpheres();
   // A coarse threshold: the lamp lights each sphere's many patches through links to their clusters.
   hr::SolverOptions o = shooting(testutil::options(2e-3, 5));
   o.shootFraction = 1.0;  // the strongest patch alone: each pass lights one room
@@ -251,16 +256,7 @@ namespace {
 // discretisation difference at this threshold (the Cornell box test above: 0.9 % at 2e-4). The
 // lamps only emit (no reflectance): equal in both schemes, not compared.
 TEST(Shooting, DimShootersInTwoRoomsLoseNoLight) {
-  auto room = [](double x) {
-    const std::string lo = std::to_string(x), hi = std::to_string(x + 1.0), l0 = std::to_string(x + 0.4),
-                      l1 = std::to_string(x + 0.6);
-    return R"({ "type": "box", "material": "w", "min": [)" + lo + R"(,0,0], "max": [)" + hi +
-           R"(,1,1], "facing": "inward" }, { "type": "quad", "material": "e", "vertices": [[)" + l0 + ",0.99,0.4],[" + l1 +
-           ",0.99,0.4],[" + l1 + ",0.99,0.6],[" + l0 + R"(,0.99,0.6]] }, { "type": "sphere", "material": "w", "center": [)" +
-           std::to_string(x + 0.5) + ",0.3,0.5], \"radius\": 0.15 }";
-  };
-  const std::string json = R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
-    "objects": [ )" + room(0.0) + ", " + room(10.0) + " ] }";
+  const std::string json = twoRoomsWithSpheres();
   hr::SolverOptions o = testutil::options(2e-4, 6);
   auto g = testutil::solveText(json, o);
   auto s = testutil::solveText(json, shooting(o));
