@@ -98,7 +98,7 @@ struct SolverState {
   std::vector<Rgb> gradU, gradV;
   std::vector<float> Bmin, Bmax;      // per element: range of its leaves' radiosity (luminance, W/m^2)
   // Per element: the fraction of its area no coplanar patch covers (coplanar.h), 1 almost always;
-  // below 1 on a floor element straddling the foot of a box that stands on it (refine.cpp).
+  // below 1 on a floor element straddling the foot of a box that stands on it (transfer.cpp, push_pull.cpp).
   std::vector<float> open;
   // Shooting only (empty when gathering): per element, unshot radiosity (W/m^2) and its leaves' range.
   std::vector<Rgb> U;

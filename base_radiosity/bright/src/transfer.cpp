@@ -53,8 +53,8 @@ constexpr int kChildWeightPoints = 16;
 /// point kernel of the child's one ray (at 4 rays per link) over all rays' kernels: a ratio of
 /// heavy-tailed samples where a sender meets its receiver (a block's face and the floor at its
 /// foot: cos cos / r^2 without bound), which on average understated the child at the contact and
-/// lit the Cornell box's short block 0.4 % too much (mean of three seeds). val, blocked: the rays' kernels (0 where not
-/// traced) and, for the traced ones in order, their outcomes.
+/// lit the Cornell box's short block 0.4 % too much (mean of three seeds). val, blocked: the rays'
+/// kernels (0 where not traced) and, for the traced ones in order, their outcomes.
 void childWeights(const Element& re, const Element& se, const std::array<Polygon, 4>& kids, const Vec3* xs, int points,
                   const double* val, const bool* blocked, int K, float* wkid) {
   double F[4] = {0, 0, 0, 0}, seen[4] = {0, 0, 0, 0}, vis[4] = {0, 0, 0, 0};
@@ -85,6 +85,8 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   const Element& se = s.h.element(l.sender.index());
   const Element& re = s.h.element(l.receiver.index());
   if (se.patch == re.patch) return {};
+  // Wholly under a coplanar cover: no light arrives; the link, its bound 0, is dropped.
+  if (s.open[l.receiver.index()] == 0.0f) return {};
   // The oracle's variation comes from fixed points (corners pulled 1e-3 inward, and the centre),
   // not from the points that set the coefficient: deciding on the same random samples that set
   // the value would keep preferentially the links whose samples happen to agree, a bias.
@@ -126,7 +128,8 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   for (int k = 0; k < K; ++k) {
     Vec3 x = re.poly.sample((k + rr.uniform()) / K, rr.uniform());
     if (partly) {
-      for (int t = 1; t < kOpenTries && s.vis.coverOf(re.patch, x) != kNone; ++t) x = re.poly.sample(rr.uniform(), rr.uniform());
+      for (int t = 1; t < kOpenTries && s.vis.coverOf(re.patch, x) != kNone; ++t)
+        x = re.poly.sample(rr.uniform(), rr.uniform());
       if (s.vis.coverOf(re.patch, x) != kNone) {
         val[k] = 0.0;
         continue;
@@ -194,7 +197,8 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   // The bound is the unoccluded transfer: a link whose few rays were all blocked may still be
   // partly visible, so it must be refined (or found small) rather than dropped.
   l.bound = static_cast<float>(fmean);
-  double vspread = nvis < n || (partly && openRays < K) ? 1.0 : 0.0;  // any blocked ray: visibility is uncertain
+  // Any blocked ray, or a point that found no open spot: visibility is uncertain.
+  double vspread = nvis < n || (partly && openRays < K) ? 1.0 : 0.0;
   l.spread = fmean > 0.0 ? static_cast<float>((hi - lo) / std::max(fmean, 1e-300) + vspread) : 0.0f;
   l.geom = 0.0f;
   return {n, n, nvis};
@@ -276,10 +280,9 @@ int evaluateLink(const SolverState& s, Link& l) {
   l.dir = glm::vec3(dist > 0.0 ? d / dist : Vec3(0, 0, 1));
   l.evaluated = true;
   int K = std::clamp(s.opt.raysPerLink, 1, kMaxRays);
-  // A receiver partly under a coplanar cover: its open part's share of the kernel is a ratio of two
-  // sample means (evaluateElementLink), biased by O(1/K); at 4 rays the straddling floor elements
-  // round the Cornell box's blocks sent the tall block's foot 5-8 % too little (block -1.5 %), at
-  // 32 the block is within 0.3 % over seeds. Few links have such receivers.
+  // A receiver partly under a coplanar cover: its form factor is the mean of exact point form
+  // factors at its rays' open points (evaluateElementLink), so it takes enough of them for that mean
+  // to settle near a contact. Few links have such receivers.
   if (!l.receiver.isCluster() && s.open[l.receiver.index()] < 1.0f && s.open[l.receiver.index()] > 0.0f)
     K = std::max(K, kCoverRays);
   RayCount rc = trace(s, l, dist, K);
