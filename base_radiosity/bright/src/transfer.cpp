@@ -23,6 +23,8 @@ double pointKernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny)
 constexpr int kMaxRays = 256;
 /// Shadow rays at least, on a link whose receiver is partly under a coplanar cover (evaluateLink).
 constexpr int kCoverRays = 32;
+/// Shadow rays at least, on a link between elements whose sender emits (evaluateLink).
+constexpr int kEmitterRays = 32;
 /// Draws per receiver point to find the open part of a partly covered receiver.
 constexpr int kOpenTries = 16;
 
@@ -285,6 +287,13 @@ int evaluateLink(const SolverState& s, Link& l) {
   // to settle near a contact. Few links have such receivers.
   if (!l.receiver.isCluster() && s.open[l.receiver.index()] < 1.0f && s.open[l.receiver.index()] > 0.0f)
     K = std::max(K, kCoverRays);
+  // Direct light: an emitter's links carry most of a scene's power and cast its sharpest shadows.
+  // The oracle keeps a link whose rays agree, and at 4 rays agreement says little: penumbra links
+  // whose rays all happened to see the lamp were kept at full visibility, and the Cornell box's
+  // short block and the floor's shadowed crease before it came out 1.8 % bright (0.8 % at 32 rays,
+  // for 39 % more rays in all). Few links start at an emitter.
+  if (!l.sender.isCluster() && !l.receiver.isCluster() && luminance(s.emitted(l.sender.index())) > 0.0)
+    K = std::max(K, kEmitterRays);
   RayCount rc = trace(s, l, dist, K);
   int rays = rc.traced;
   // Partly visible links: the visible fraction from K rays has a standard error of about
