@@ -78,7 +78,7 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
   r.peakCoefficients = bench::stat(s, "coefficients_held_peak");
   r.brdf = bench::stat(s, "brdf_evaluations");
   r.visits = bench::stat(s, "reflect_leaf_visits") + bench::stat(s, "pull_node_visits") + bench::stat(s, "rc_descent_node_visits");
-  r.samplesPeak = double(st.peakSamples);
+  r.samplesPeak = double(st.peakSamplesAtOnce);  // held for reflection at once (a shooting pass: one batch)
   r.imbalance = (st.emittedW.y - st.absorbedW.y - st.escapedW.y) / st.emittedW.y;
   hr::Solution sol = hr::makeSolution(sc, h, solver.radiosity());
   hr::writeExr(hr::render(sol, sc.cameras.front(), ext.get()), image);

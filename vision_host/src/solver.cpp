@@ -123,8 +123,9 @@ struct Solver::Impl {
       is.links = 0;
       is.elements = n.elements;
       is.refined = n.elements - before;
-      is.samples = s.handed.exchange(0);
+      is.samples = is.samplesAtOnce = s.handed.exchange(0);  // a pass's samples are reflected together
       st.peakSamples = std::max(st.peakSamples, is.samples);
+      st.peakSamplesAtOnce = std::max(st.peakSamplesAtOnce, is.samplesAtOnce);
       is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
       st.history.push_back(is);
       st.iterations = it;

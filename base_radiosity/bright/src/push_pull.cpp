@@ -6,6 +6,8 @@
 // the reflection and pull hooks (its light adds to the host's; the host's own values are unchanged).
 // Gathering replaces each leaf's light by what this iteration brought (Jacobi); a shooting pass adds
 // what it brought to both the radiosity and the unshot radiosity (and the extension's reflectShot).
+// A shooting pass may add its light in batches of receiver groups (leaves only, no pull), so that
+// only one batch's samples are packed and carried down at once, and pull once after the last.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -88,16 +90,25 @@ class PushPull {
  public:
   static constexpr std::uint32_t kSerialPatches = 512;
 
-  PushPull(SolverState& s, PushMode mode)
-      : s_(s), shoot_(mode == PushMode::Shoot), prune_(shoot_ && !s.opt.testOnlyPushEverything),
-        carry_(s.ext && !s.ext->reflectsInGather()) {
+  PushPull(SolverState& s, PushMode mode, std::size_t groupBegin, std::size_t groupEnd)
+      : s_(s), shoot_(mode != PushMode::Gather), prune_(shoot_ && !s.opt.testOnlyPushEverything),
+        leavesOnly_(mode == PushMode::ShootLeaves), pullOnly_(mode == PushMode::ShootPull),
+        carry_(s.ext && !s.ext->reflectsInGather() && !pullOnly_),
+        g0_(std::min(groupBegin, groupCount())), g1_(std::min(groupEnd, groupCount())) {
+    // A batch adds the gathered irradiance of its own element receivers only.
+    if (leavesOnly_) {
+      inBatch_.assign(s.h.elements().size(), 0);
+      for (std::size_t g = g0_; g < g1_; ++g)
+        if (NodeId r = s.links[s.groupStart[g]].receiver; !r.isCluster()) inBatch_[r.index()] = 1;
+    }
     if (s.ext) indexElementLinks();
     // Each cluster's links, packed once (links are grouped by receiver); links that brought no light
     // are left out.
     samples_.assign(s.h.clusters().size(), {});
     // Every receiver's group is looked at in parallel: listing the clusters' groups first, serially,
     // read one link per receiver from memory on every sweep.
-    tbb::parallel_for(std::size_t(0), std::max<std::size_t>(s.groupStart.size(), 1) - 1, [&](std::size_t g) {
+    if (!pullOnly_)
+    tbb::parallel_for(g0_, g1_, [&](std::size_t g) {
       const NodeId r = s.links[s.groupStart[g]].receiver;
       if (!r.isCluster()) return;
       ClusterSamples& cs = samples_[r.index()];
@@ -129,7 +140,8 @@ class PushPull {
     const std::size_t P = pos.size();
     std::vector<int> diff(P + 1, 0);
     auto mark = [&](std::uint32_t begin, std::uint32_t end) { ++diff[begin], --diff[end]; };
-    for (std::size_t g = 0; g + 1 < s_.groupStart.size(); ++g) {
+    // Pulling: everything the pass changed; a batch: its own receivers (shooters received nothing).
+    for (std::size_t g = pullOnly_ ? 0 : g0_; g < (pullOnly_ ? groupCount() : g1_); ++g) {
       bool lit = false;
       for (std::uint32_t k = s_.groupStart[g]; k < s_.groupStart[g + 1] && !lit; ++k) lit = s_.links[k].E != glm::vec3(0.0f);
       if (!lit) continue;
@@ -141,7 +153,8 @@ class PushPull {
         mark(at, at + 1);
       }
     }
-    for (std::uint32_t p : s_.passShooters) mark(pos[p], pos[p] + 1);
+    if (!leavesOnly_)
+      for (std::uint32_t p : s_.passShooters) mark(pos[p], pos[p] + 1);
     touchedBefore_.assign(P + 1, 0);
     int depth = 0;
     for (std::size_t i = 0; i < P; ++i) {
@@ -149,6 +162,7 @@ class PushPull {
       touchedBefore_[i + 1] = touchedBefore_[i] + (depth > 0);
     }
   }
+  std::size_t groupCount() const { return std::max<std::size_t>(s_.groupStart.size(), 1) - 1; }
   bool touched(std::uint32_t begin, std::uint32_t end) const { return touchedBefore_[end] > touchedBefore_[begin]; }
 
   /// The packed samples are freed in parallel: the clusters' small arrays, freed one by one on every
@@ -160,7 +174,7 @@ class PushPull {
   /// Element receivers' link ranges, for the samples of subtrees the extension simulates.
   void indexElementLinks() {
     elemRange_.assign(s_.h.elements().size(), {0, 0});
-    for (std::size_t g = 0; g + 1 < s_.groupStart.size(); ++g) {
+    for (std::size_t g = g0_; g < g1_; ++g) {
       NodeId r = s_.links[s_.groupStart[g]].receiver;
       if (!r.isCluster()) elemRange_[r.index()] = {s_.groupStart[g], s_.groupStart[g + 1]};
     }
@@ -214,7 +228,7 @@ class PushPull {
   Pulled element(std::uint32_t e, const Rgb& down, std::vector<IncidentSample>* samples) {
     // A wholly covered element has no open part for light to arrive at (coplanar.h): its radiosity
     // stays its emission, which its cover absorbs.
-    Rgb total = s_.open[e] > 0.0f ? down + s_.Eg[e] : Rgb(0.0);
+    Rgb total = s_.open[e] > 0.0f && !pullOnly_ ? down + (leavesOnly_ && !inBatch_[e] ? Rgb(0.0) : s_.Eg[e]) : Rgb(0.0);
     const Element& el = s_.h.element(e);
     // Shooting: the pass's irradiance adds to what arrived before.
     s_.Et[e] = shoot_ ? s_.Et[e] + total : total;
@@ -254,6 +268,10 @@ class PushPull {
         });
       } else {
         for (std::uint32_t k = 0; k < 4; ++k) part[k] = element(el.firstChild + k, total, nullptr);
+      }
+      if (leavesOnly_) {  // pulled once after the pass's last batch
+        if (samples) samples->resize(mark);
+        return result;
       }
       const Vec3 g = el.poly.areaCentroid();
       double openSum = 0.0;
@@ -363,6 +381,7 @@ class PushPull {
     } else {
       for (std::size_t k = 0; k < cl.children.size(); ++k) child(k);
     }
+    if (leavesOnly_) return;  // pulled once after the pass's last batch
     if (s_.tableSlot[c] == kNone)
       exactPeak(c);
     else
@@ -421,7 +440,11 @@ class PushPull {
   SolverState& s_;
   const bool shoot_;  // add the pass's light (shooting) instead of replacing (gathering)
   const bool prune_;  // shooting: visit only the subtrees the pass changed
+  const bool leavesOnly_;  // shooting in batches: add one batch's light to the leaves, pull nothing
+  const bool pullOnly_;    // shooting in batches: pull what the pass changed, add nothing
   const bool carry_;  // carry samples down to simulated leaves (not for an extension that reflects in gather)
+  const std::size_t g0_, g1_;  // the receiver groups whose light this push adds
+  std::vector<std::uint8_t> inBatch_;  // leavesOnly_: per element, whether its own group is in [g0_, g1_)
   std::vector<ClusterSamples> samples_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> elemRange_;  // element receivers' links
   std::vector<std::uint32_t> touchedBefore_;   // shooting: changed patches among patchOrder[0..i)
@@ -429,9 +452,9 @@ class PushPull {
 
 }  // namespace
 
-void pushPull(SolverState& s, PushMode mode) {
+void pushPull(SolverState& s, PushMode mode, std::size_t groupBegin, std::size_t groupEnd) {
   PhaseTimer t(s.clkPushPull);
-  PushPull(s, mode).run();
+  PushPull(s, mode, groupBegin, groupEnd).run();
 }
 
 }  // namespace hr::detail

@@ -6,10 +6,18 @@
 //     refined by the usual oracle, which reads the shooters' unshot light (SolverState::shooting);
 //  3. the unshot light travels along them (gatherLinks; the gather hook sees this pass's samples);
 //  4. the shooters' unshot light is cleared (host and extension);
-//  5. what arrived is pushed down and pulled up (PushMode::Shoot): it joins radiosity and unshot. The
-//     push visits only the subtrees the pass lit and the paths up from them and from the shooters:
-//     elsewhere nothing changed, and re-pulling it cost most of a pass (the glossy sphere: 65 % of
-//     the solve in push/pull, its clusters' distributions summed again every pass).
+//  5. what arrived is pushed down (PushMode::ShootLeaves): it joins radiosity and unshot, and the
+//     extension reflects its samples and drops them. This goes in batches of receiver groups of at
+//     most kBatchSamples samples into simulated subtrees, so that a pass never holds all its samples
+//     at once (paper §3.4: shooting reflects and drops samples as they arrive; a pass of many
+//     shooters held 0.40 of a gathering iteration's samples on the glossy sphere). All the pass's
+//     links were gathered before the first batch, from what the shooters held at the pass's start,
+//     so batching changes no light sent (a link's (dir, E) is a field every link keeps anyway);
+//     only a leaf reached by several batches reflects them in parts and sums the parts.
+//  6. one pull (PushMode::ShootPull) visits only the subtrees the pass lit and the paths up from them
+//     and from the shooters: elsewhere nothing changed, and re-pulling it cost most of a pass (the
+//     glossy sphere: 65 % of the solve in push/pull, its clusters' distributions summed again every
+//     pass).
 // All shooters of a pass send what they held at its start, so the pass is one parallel step; shooters
 // are taken in patch order and refinement is deterministic, so passes do not depend on the thread
 // count. Links are kept per shooter: a later pass from the same patch reuses them, refined for its
@@ -28,6 +36,11 @@
 
 namespace hr::detail {
 namespace {
+
+// Samples one push carries at most (unless a single receiver's links are more): 1024 x 24 bytes. A
+// batch costs a traversal of the subtrees it lit and a leaf reached by k batches reflects k times;
+// smaller batches hold less for more of both (docs/results.md has the glossy sphere's figures).
+constexpr std::size_t kBatchSamples = 1024;
 
 /// A patch's unshot power, W (luminance): its host light plus the extension's.
 double unshotPower(const SolverState& s, std::uint32_t p) {
@@ -66,7 +79,9 @@ class Shooter {
       std::vector<std::uint32_t> shooters = choose();
       std::size_t refined = shoot(shooters);
       progress_.phase("pass " + std::to_string(pass) + ": push/pull");
-      pushPull(s_, PushMode::Shoot);
+      const std::size_t handed = s_.samples.exchange(0);  // by the gather hook, the whole pass's
+      Batches b = reflectInBatches();
+      pushPull(s_, PushMode::ShootPull);
       left = measure();
       if (!std::isfinite(left)) throw std::runtime_error(nonFiniteWhere(s_, "shooting pass " + std::to_string(pass)));
       IterationStat is;
@@ -78,11 +93,14 @@ class Shooter {
       is.refined = refined;
       is.shooters = shooters.size();
       is.pushedPatches = s_.h.patches().size() - s_.pushSkipped.load();
-      is.samples = s_.samples.exchange(0);
+      is.samples = handed;
+      is.samplesAtOnce = b.most;
+      is.batches = b.count;
       is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       st_.history.push_back(is);
       st_.iterations = pass;
       st_.peakSamples = std::max(st_.peakSamples, is.samples);
+      st_.peakSamplesAtOnce = std::max(st_.peakSamplesAtOnce, is.samplesAtOnce);
       char buf[256];
       std::snprintf(buf, sizeof buf,
                     "pass %d: %zu shooter(s), unshot %.3e W (%.2e of emitted), links %zu, elements %zu, split %zu", pass,
@@ -106,6 +124,33 @@ class Shooter {
   }
 
  private:
+  struct Batches {
+    std::size_t count = 0, most = 0;  // pushes; the most samples one of them carried
+  };
+
+  /// Adds the pass's gathered light to the leaves in batches of consecutive receiver groups (the
+  /// order refinement sorted them in: the same for any thread count), each holding at most
+  /// kBatchSamples samples into simulated subtrees unless one group alone holds more.
+  Batches reflectInBatches() {
+    Batches b;
+    const std::size_t groups = std::max<std::size_t>(s_.groupStart.size(), 1) - 1;
+    std::size_t begin = 0, held = 0;
+    auto flush = [&](std::size_t end) {
+      if (end == begin) return;
+      pushPull(s_, PushMode::ShootLeaves, begin, end);
+      ++b.count, b.most = std::max(b.most, held);
+      begin = end, held = 0;
+    };
+    for (std::size_t g = 0; g < groups; ++g) {
+      const NodeId r = s_.links[s_.groupStart[g]].receiver;
+      const std::size_t n = s_.ext && s_.isOwned(r) ? s_.groupStart[g + 1] - s_.groupStart[g] : 0;
+      if (held > 0 && held + n > kBatchSamples) flush(g);
+      held += n;
+    }
+    flush(groups);
+    return b;
+  }
+
   /// Every patch's unshot power; returns their sum, W (luminance).
   double measure() {
     tbb::parallel_for(std::size_t(0), power_.size(), [&](std::size_t p) { power_[p] = unshotPower(s_, std::uint32_t(p)); });

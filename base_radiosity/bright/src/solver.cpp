@@ -153,8 +153,9 @@ struct Solver::Impl {
         is.links = s.links.size();
         is.elements = h.elements().size();
         is.refined = st.history.empty() || st.history.back().pass != pass ? refined : 0;
-        is.samples = s.samples.exchange(0);
+        is.samples = is.samplesAtOnce = s.samples.exchange(0);  // one push reflects them all
         st.peakSamples = std::max(st.peakSamples, is.samples);
+        st.peakSamplesAtOnce = std::max(st.peakSamplesAtOnce, is.samplesAtOnce);
         is.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ti).count();
         st.history.push_back(is);
         st.iterations = it;

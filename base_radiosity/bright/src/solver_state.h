@@ -221,8 +221,13 @@ void gatherLinks(SolverState& s);
 void callGatherHooks(SolverState& s);
 /// Pushes irradiance down and pulls radiosity and cluster intensities up (parallel over subtrees).
 /// Gathering replaces each leaf's radiosity; shooting adds the pass's light to radiosity and unshot.
-enum class PushMode { Gather, Shoot };
-void pushPull(SolverState& s, PushMode mode = PushMode::Gather);
+/// Gather: replace each leaf's light by the iteration's. Shoot: add the pass's light, then pull.
+/// ShootLeaves: add the light of the receiver groups [groupBegin, groupEnd) to the leaves (and reflect
+/// their samples) without pulling; ShootPull: pull what the pass's receivers and shooters changed,
+/// adding nothing (shoot.cpp reflects a pass in batches, then pulls once).
+enum class PushMode { Gather, Shoot, ShootLeaves, ShootPull };
+void pushPull(SolverState& s, PushMode mode = PushMode::Gather, std::size_t groupBegin = 0,
+              std::size_t groupEnd = std::size_t(-1));
 /// Cluster intensities from the current radiosity alone (before the first gather).
 void pullOnly(SolverState& s);
 

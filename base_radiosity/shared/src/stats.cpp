@@ -80,13 +80,16 @@ std::string statsJson(const RunInfo& run, const SolveStats& st, std::size_t peak
                           {"peak_rss_over_budget", double(peakRss) / double(st.memoryBudgetBytes)}};
   if (st.iteration == Iteration::Shoot) j["unshot_w"] = st.unshotW, j["shoot_fraction"] = st.shootFraction;
   j["samples_peak_per_iteration"] = st.peakSamples;
+  j["samples_peak_at_once"] = st.peakSamplesAtOnce;
   // residual_w: gathering, the sweep's power change; shooting, the unshot power left after the pass.
   json hist = json::array();
   for (const auto& h : st.history) {
     json e = {{"iteration", h.iteration}, {"pass", h.pass}, {"residual_w", h.residualW}, {"unconverged_w", h.unconvergedW},
               {"links", h.links}, {"elements", h.elements}, {"links_split", h.refined}, {"samples", h.samples},
               {"seconds", h.seconds}};
-    if (st.iteration == Iteration::Shoot) e["shooters"] = h.shooters, e["pushed_patches"] = h.pushedPatches;
+    if (st.iteration == Iteration::Shoot)
+      e["shooters"] = h.shooters, e["pushed_patches"] = h.pushedPatches, e["samples_at_once"] = h.samplesAtOnce,
+      e["reflect_batches"] = h.batches;
     hist.push_back(e);
   }
   j["history"] = hist;

@@ -54,6 +54,10 @@ struct IterationStat {
   std::size_t shooters = 0;    // shooting: patches that shot in this pass
   std::size_t pushedPatches = 0;  // shooting: root patches the pass's push/pull visited (the rest kept)
   std::size_t samples = 0;     // Illumination Samples handed to the extension's gather hook
+  // The most of them one push carried to the leaves and held for reflection at once: all of a
+  // gathering iteration's; one batch of a shooting pass's (shoot.cpp reflects a pass in batches).
+  std::size_t samplesAtOnce = 0;
+  std::size_t batches = 0;     // shooting: pushes the pass's samples were reflected in
   double seconds = 0.0;
 };
 
@@ -84,7 +88,8 @@ struct SolveStats {
   Iteration iteration = Iteration::Gather;
   double unshotW = 0.0;         // shooting: unshot power left at the end (luminance), W
   double shootFraction = 0.0;   // shooting: SolverOptions::shootFraction
-  std::size_t peakSamples = 0;  // the most Illumination Samples held in one iteration or pass
+  std::size_t peakSamples = 0;  // the most Illumination Samples handed over in one iteration or pass
+  std::size_t peakSamplesAtOnce = 0;  // the most held for reflection at once (IterationStat::samplesAtOnce)
   std::size_t memoryBudgetBytes = 0;  // SolverOptions::memoryBudgetBytes
   double epsReached = 0.0;            // the finest threshold refinement used (eps without a budget)
   bool memoryBudgetExceeded = false;  // the coarsest pass alone did not fit in the budget
