@@ -42,7 +42,7 @@ struct SolveArgs {
   std::optional<int> maxLevel, rays, threads, maxIterations;
   std::optional<long long> seed;
   std::optional<double> maxImbalance, memoryMb;
-  bool quiet = false, lambertian = false;
+  bool quiet = false, lambertian = false, flat = false;
   ExtensionOptions extension;
 };
 
@@ -124,6 +124,12 @@ int runSolve(const SolveArgs& a) {
   const hr::SolveStats& st = res.st;
   hr::Solution& sol = res.sol;
   sol.algorithm = a.algorithm;
+  if (a.flat) {
+    // Either host: each element's own radiosity in every output and in solution.ghrs (as `render
+    // --flat` draws it); an extension's share is drawn as the extension draws it.
+    hr::setSection(sol, "display", "flat");
+    hr::reconstruct(sol);
+  }
   if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
@@ -298,6 +304,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"gather", "shoot"}));
   solve->add_option("--shoot-fraction", sa.shootFraction,
                     "shooting: patches with at least this fraction of the largest unshot power shoot together (default 0.1; 1: one per pass)");
+  solve->add_flag("--flat", sa.flat,
+                  "show each element's own radiosity, unsmoothed (default: smooth per vertex on both hosts)");
   solve->add_flag("--quiet", sa.quiet, "no progress on stderr");
   sa.extension.addTo(solve);
   RenderArgs ra0;

@@ -60,7 +60,7 @@ HostResult solveVision(HostJob& job) {
   r.st.iteration = hr::Iteration::Shoot;  // link-less shooting is the VISION-like host's only scheme
   job.progress.phase("writing outputs");
   std::vector<std::uint32_t> cellLeaf;
-  r.sol = vision::makeSolution(job.scene, *run->hier, vision::Display::Flat, &cellLeaf);
+  r.sol = vision::makeSolution(job.scene, *run->hier, vision::Display::Smooth, &cellLeaf);
   if (job.ext) adapters::vision::showCells(*job.ext, run->solver->view(), r.sol, cellLeaf);
   r.keep = run;
   return r;

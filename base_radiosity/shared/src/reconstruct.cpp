@@ -15,13 +15,11 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstring>
 #include <unordered_map>
 
 namespace hr {
 
-namespace {
-
-/// Leaves hidden by a surface just in front of them (see the header), 1, else 0.
 std::vector<char> hiddenLeaves(const Solution& s) {
   Visibility vis(s.patches);
   std::vector<char> hidden(s.elements.size(), 0);
@@ -41,14 +39,18 @@ std::vector<char> hiddenLeaves(const Solution& s) {
   return hidden;
 }
 
-}  // namespace
-
 void reconstruct(Solution& s) {
   // A solution saved for flat display (a "display" section saying "flat": one value per element, as
   // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
-  if (const std::string* d = findSection(s, "display"); d && *d == "flat") {
+  const std::string* d = findSection(s, "display");
+  if (d && *d == "flat") {
     s.cornerRadiosity.assign(s.elements.size(), {});
     for (std::size_t i = 0; i < s.elements.size(); ++i) s.cornerRadiosity[i].fill(s.elements[i].radiosity);
+    return;
+  }
+  // A host that smooths in its own terms (the VISION-like host, in parameter space) saves the corners.
+  if (d && d->rfind(kDisplayCorners, 0) == 0) {
+    s.cornerRadiosity = decodeDisplayCorners(s, *d);
     return;
   }
   Aabb box;
@@ -98,6 +100,36 @@ void reconstruct(Solution& s) {
       }
     }
   });
+}
+
+std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners) {
+  std::string out(kDisplayCorners);
+  const std::size_t head = out.size();
+  out.resize(head + corners.size() * 12 * sizeof(double));
+  char* p = out.data() + head;
+  for (const auto& c : corners)
+    for (const Rgb& v : c)
+      for (int k = 0; k < 3; ++k, p += sizeof(double)) std::memcpy(p, &v[k], sizeof(double));
+  return out;
+}
+
+std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload) {
+  const std::size_t head = std::strlen(kDisplayCorners);
+  if (payload.size() != head + s.elements.size() * 12 * sizeof(double))
+    throw InputError("section \"display\": " + std::to_string(payload.size() - head) + " bytes of corners for " +
+                     std::to_string(s.elements.size()) + " elements (12 doubles each)");
+  std::vector<std::array<Rgb, 4>> corners(s.elements.size());
+  const char* p = payload.data() + head;
+  for (auto& c : corners)
+    for (Rgb& v : c)
+      for (int k = 0; k < 3; ++k, p += sizeof(double)) {
+        double x;
+        std::memcpy(&x, p, sizeof(double));
+        if (!std::isfinite(x) || x < 0.0 || x > 1e30)
+          throw InputError("section \"display\": corner radiosity " + std::to_string(x) + " outside [0, 1e30]");
+        v[k] = x;
+      }
+  return corners;
 }
 
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {

@@ -266,7 +266,11 @@ Solution parseSolution(std::string_view bytes, const std::string& path, bool ver
       if (c.patch != e.patch || c.level != e.level + 1) els.fail(at + "child " + std::to_string(k) + " does not belong to it");
     }
   }
-  reconstruct(s);
+  try {
+    reconstruct(s);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
   return s;
 }
 

@@ -55,8 +55,21 @@ const std::string* findSection(const Solution& s, const std::string& name);
 /// radiosity of the leaves of the same object and material that share that point and face within 30
 /// degrees of it (creases, objects, materials and emitters stay sharp), hidden leaves (a surface
 /// just in front, or a coplanar cover) left out of visible leaves' corners.
-/// A solution with a "display" section reading "flat" keeps each element's own value instead.
+/// A solution with a "display" section reading "flat" keeps each element's own value instead; one
+/// holding a host's own corners (encodeDisplayCorners) takes those.
 void reconstruct(Solution& s);
+/// Per element, 1 if it is a leaf hidden by a surface just in front of it or by a coplanar cover
+/// (the leaves whose radiosity smoothing must not spread onto visible neighbours), else 0.
+std::vector<char> hiddenLeaves(const Solution& s);
+
+/// A host that smooths in its own terms (the VISION-like host, across its parameter space) hands its
+/// per-element corner radiosity (W/m^2, in polygon vertex order) to every output and to the .ghrs
+/// file as the "display" section: kDisplayCorners, then 12 doubles per element.
+inline constexpr const char* kDisplayCorners = "corners";
+std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners);
+/// Throws InputError naming the section when its size does not match the elements or a value is
+/// negative or not finite.
+std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload);
 
 /// Finds the leaf of patch p that holds point x (descends the quadtree by point location).
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
