@@ -88,6 +88,8 @@ TEST(GlossyShooting, ThreeLightsImageAgreesWithGathering) {
 // samples per pass against 19 per iteration on three lights at eps 4e-4. With the default
 // --shoot-fraction 0.1 a pass holds MORE (192): shooters are patches, so the reflector is reached by
 // many element links where gathering reaches it through a few cluster links (docs/results.md).
+// (What a pass holds at once is bounded separately: it reflects its samples in batches of at most
+// 1024, shoot.cpp, stats' samples_peak_at_once; 0.052 of gathering's peak on the glossy sphere.)
 TEST(GlossyShooting, APassHoldsFewerSamplesThanAnIteration) {
   hr::SolverOptions o = optionsOf("three_lights.json", 4e-4);
   Solve g = solve("three_lights.json", o, "is");
