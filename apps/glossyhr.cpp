@@ -279,7 +279,7 @@ int main(int argc, char** argv) {
   solve->add_option("-o,--output", sa.out, "output folder")->capture_default_str();
   solve->add_option("--eps", sa.eps, "relative refinement threshold (link error / emitted power)");
   solve->add_option("--max-level", sa.maxLevel, "maximum quadtree depth below a root patch");
-  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link");
+  solve->add_option("--rays-per-link", sa.rays, "shadow rays per link (at least 32 on links from emitters)");
   solve->add_option("--max-iterations", sa.maxIterations, "maximum gathering iterations");
   solve->add_option("--tolerance", sa.tolerance, "stop when the power change is below this fraction of emitted");
   solve->add_option("--threads", sa.threads, "worker threads (default: all cores)");
