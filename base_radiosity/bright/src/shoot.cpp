@@ -13,7 +13,8 @@
 //     shooters held 0.40 of a gathering iteration's samples on the glossy sphere). All the pass's
 //     links were gathered before the first batch, from what the shooters held at the pass's start,
 //     so batching changes no light sent (a link's (dir, E) is a field every link keeps anyway);
-//     only a leaf reached by several batches reflects them in parts and sums the parts.
+//     only a leaf reached by several batches reflects them in parts and sums the parts. A pass that
+//     fits in one batch (every diffuse pass) is pushed and pulled in one traversal (PushMode::Shoot).
 //  6. one pull (PushMode::ShootPull) visits only the subtrees the pass lit and the paths up from them
 //     and from the shooters: elsewhere nothing changed, and re-pulling it cost most of a pass (the
 //     glossy sphere: 65 % of the solve in push/pull, its clusters' distributions summed again every
@@ -80,8 +81,7 @@ class Shooter {
       std::size_t refined = shoot(shooters);
       progress_.phase("pass " + std::to_string(pass) + ": push/pull");
       const std::size_t handed = s_.samples.exchange(0);  // by the gather hook, the whole pass's
-      Batches b = reflectInBatches();
-      pushPull(s_, PushMode::ShootPull);
+      Batches b = pushAndPull();
       left = measure();
       if (!std::isfinite(left)) throw std::runtime_error(nonFiniteWhere(s_, "shooting pass " + std::to_string(pass)));
       IterationStat is;
@@ -130,24 +130,28 @@ class Shooter {
 
   /// Adds the pass's gathered light to the leaves in batches of consecutive receiver groups (the
   /// order refinement sorted them in: the same for any thread count), each holding at most
-  /// kBatchSamples samples into simulated subtrees unless one group alone holds more.
-  Batches reflectInBatches() {
-    Batches b;
+  /// kBatchSamples samples into simulated subtrees unless one group alone holds more, then pulls
+  /// once. A pass that fits in one batch (every diffuse pass: no samples) is pushed and pulled in
+  /// one traversal, as before batching.
+  Batches pushAndPull() {
     const std::size_t groups = std::max<std::size_t>(s_.groupStart.size(), 1) - 1;
-    std::size_t begin = 0, held = 0;
-    auto flush = [&](std::size_t end) {
-      if (end == begin) return;
-      pushPull(s_, PushMode::ShootLeaves, begin, end);
-      ++b.count, b.most = std::max(b.most, held);
-      begin = end, held = 0;
-    };
+    std::vector<std::size_t> ends;  // each batch's end group; batch k starts where k - 1 ended
+    Batches b;
+    std::size_t held = 0;
     for (std::size_t g = 0; g < groups; ++g) {
       const NodeId r = s_.links[s_.groupStart[g]].receiver;
       const std::size_t n = s_.ext && s_.isOwned(r) ? s_.groupStart[g + 1] - s_.groupStart[g] : 0;
-      if (held > 0 && held + n > kBatchSamples) flush(g);
+      if (held > 0 && held + n > kBatchSamples) ends.push_back(g), b.most = std::max(b.most, held), held = 0;
       held += n;
     }
-    flush(groups);
+    ends.push_back(groups), b.most = std::max(b.most, held);
+    b.count = ends.size();
+    if (ends.size() == 1) {
+      pushPull(s_, PushMode::Shoot);
+      return b;
+    }
+    for (std::size_t k = 0; k < ends.size(); ++k) pushPull(s_, PushMode::ShootLeaves, k == 0 ? 0 : ends[k - 1], ends[k]);
+    pushPull(s_, PushMode::ShootPull);
     return b;
   }
 
