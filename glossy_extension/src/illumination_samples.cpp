@@ -305,7 +305,10 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
   NodeLight out;
   NodeLight* l = &out;
   l->area = info.area;
-  bool planar = !node.isCluster() && info.planar && usableNormal(info.normal);
+  // A leaf reflects about its one normal, curved or not (reflected()), so its summed light keeps that
+  // horizon and frame: a curved leaf's sum without them showed no glossy radiance at all (radiance()
+  // needs the horizon's cosine), e.g. a shiny sphere on the VISION-like host after its second pass.
+  bool planar = !node.isCluster() && (info.planar || info.leaf) && usableNormal(info.normal);
   l->normal = planar ? info.normal : Vec3(0.0);
   if (b == Basis::Haar) {
     // A planar node keeps its own frame; a cluster keeps its children's when they agree.
