@@ -23,7 +23,8 @@ struct Rotated {
 
 class SumBuilder {
  public:
-  SumBuilder(std::span<const HaarTerm> terms, const Frame& target, const HaarOptions& o) : target_(target), o_(o) {
+  SumBuilder(std::span<const HaarTerm> terms, const Frame& target, const HaarOptions& o, bool horizon)
+      : target_(target), o_(o), horizon_(horizon) {
     for (const HaarTerm& t : terms) {
       if (t.frame.same(target))
         aligned_.push_back(t.tree);
@@ -37,7 +38,9 @@ class SumBuilder {
   HaarDistribution build(HaarSumStats* stats) {
     nodes_.assign(8, Node{{0, 0, 0}, 0});
     std::vector<std::uint32_t> roots(aligned_.size());
-    for (std::uint32_t f = 0; f < 8; ++f) {
+    // Under a horizon the lower faces stay zero leaves: a term in a slightly tilted frame (a curved
+    // leaf's part from before a split) would otherwise leave light below the surface.
+    for (std::uint32_t f = 0; f < (horizon_ ? 4u : 8u); ++f) {
       for (std::size_t a = 0; a < aligned_.size(); ++a) roots[a] = f;
       FaceTri t = octaRoot(int(f));
       buildCell(f, t, 0, meanOver(t, roots.data()), roots.data());
@@ -148,14 +151,16 @@ class SumBuilder {
   std::vector<Rotated> rotated_;
   std::vector<std::uint32_t> cursors_;
   std::vector<Node> nodes_;
+  const bool horizon_;
   double peak_ = 0.0;
   HaarSumStats stats_;
 };
 
 }  // namespace
 
-HaarDistribution haarSum(std::span<const HaarTerm> terms, const Frame& target, const HaarOptions& o, HaarSumStats* stats) {
-  SumBuilder b(terms, target, o);
+HaarDistribution haarSum(std::span<const HaarTerm> terms, const Frame& target, const HaarOptions& o, HaarSumStats* stats,
+                         bool horizon) {
+  SumBuilder b(terms, target, o, horizon);
   return b.build(stats);
 }
 

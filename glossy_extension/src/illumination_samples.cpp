@@ -198,6 +198,14 @@ void IlluminationSamples::split(hr::NodeId parent, std::span<const hr::NodeId> c
       };
       scaled(*l);
       for (NodeLight& m : l->more) scaled(m);
+      // A child leaf of a curved surface (a display cell, or a split sphere leaf) faces elsewhere:
+      // its light is re-projected into its own frame under its own horizon, as a leaf is reflected
+      // and as a solution file restores it (a copy in the parent's frame came back turned).
+      const hr::NodeInfo ci = view_->info(c);
+      if (ci.leaf && usableNormal(ci.normal) && l->normal != Vec3(0.0) && glm::dot(l->normal, ci.normal) < 1.0 - 1e-12) {
+        const NodeLight* one[1] = {l.get()};
+        l = sum(c, one);
+      }
       (*table)[c.index()] = std::move(l);
     }
   }
@@ -305,7 +313,10 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
   NodeLight out;
   NodeLight* l = &out;
   l->area = info.area;
-  bool planar = !node.isCluster() && info.planar && usableNormal(info.normal);
+  // A leaf reflects about its one normal, curved or not (reflected()), so its summed light keeps that
+  // horizon and frame: a curved leaf's sum without them showed no glossy radiance at all (radiance()
+  // needs the horizon's cosine), e.g. a shiny sphere on the VISION-like host after its second pass.
+  bool planar = !node.isCluster() && (info.planar || info.leaf) && usableNormal(info.normal);
   l->normal = planar ? info.normal : Vec3(0.0);
   if (b == Basis::Haar) {
     // A planar node keeps its own frame; a cluster keeps its children's when they agree.
@@ -322,7 +333,7 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
     HaarOptions o = basis_.haar;
     o.maxLevel = std::clamp(depth, std::min(pullFloor_, o.maxLevel), o.maxLevel);
     HaarSumStats hs;
-    l->dist = haarSum(terms, target, o, &hs);
+    l->dist = haarSum(terms, target, o, &hs, planar);
     l->frame = target;
     Counters::add(counters_->pullCells, hs.cells);
     Counters::add(counters_->pullClips, hs.clips);

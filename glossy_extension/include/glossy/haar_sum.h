@@ -28,7 +28,9 @@ struct HaarSumStats {
 
 /// The sum of the terms as one tree in `target`'s frame. Uses o.eps, o.minLevel (only where the
 /// sub-cell means differ), o.maxLevel, o.refiner and o.floor (relative to the sum of the terms' peaks).
+/// horizon: target is a leaf's own frame, and what the terms hold below its plane (z < 0) is dropped:
+/// a surface sends nothing there, and a saved leaf must hold nothing there.
 HaarDistribution haarSum(std::span<const HaarTerm> terms, const Frame& target, const HaarOptions& o,
-                         HaarSumStats* stats = nullptr);
+                         HaarSumStats* stats = nullptr, bool horizon = false);
 
 }  // namespace glossy
