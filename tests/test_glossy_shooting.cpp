@@ -63,8 +63,9 @@ double balance(const testutil::Solved& s, int c) {
 // 6.1 % at 1e-4, 4.5 % at 2.5e-5 (image means within 0.6 %); gathering against itself with another
 // seed: 2.3 % at 1e-4 and at 2.5e-5. The acceptance's 1 % is NOT met (docs/results.md). The schemes
 // refine differently (at 4e-4 gathering ends with 2,483 elements, shooting with 991 and twice the
-// links): a pass's receivers are checked for that pass's light alone, and an element split after
-// it received light hands its children the mean. Held here as a regression guard, not as the
+// links): each disk light is 16 patches, which gathering sends through cluster links that refine
+// the receivers more finely; with one-patch lights the two agree within 1 % (the next test;
+// docs/results.md measures the rest). Held here as a regression guard, not as the
 // acceptance: image means within 1.5 %, RMSE within 12 %, energy within 1 %. The means' bar was 1 %
 // until the oracle's reflection term (docs/glossy.md) moved gathering's mean at this coarse eps from
 // 0.9925 to 0.9849 of the path tracer's (seed 1; shoot vs gather 1.0138): over seeds 1-3 gathering's
