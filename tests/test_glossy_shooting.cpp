@@ -3,9 +3,11 @@
 // than a gathering iteration, and the answer does not depend on the thread count. Also the
 // Radiance Clustering baseline's image against Illumination Samples' (same bases, same refiner).
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <ref/compare.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -61,8 +63,9 @@ double balance(const testutil::Solved& s, int c) {
 // 6.1 % at 1e-4, 4.5 % at 2.5e-5 (image means within 0.6 %); gathering against itself with another
 // seed: 2.3 % at 1e-4 and at 2.5e-5. The acceptance's 1 % is NOT met (docs/results.md). The schemes
 // refine differently (at 4e-4 gathering ends with 2,483 elements, shooting with 991 and twice the
-// links): a pass's receivers are checked for that pass's light alone, and an element split after
-// it received light hands its children the mean. Held here as a regression guard, not as the
+// links): each disk light is 16 patches, which gathering sends through cluster links that refine
+// the receivers more finely; with one-patch lights the two agree within 1 % (the next test;
+// docs/results.md measures the rest). Held here as a regression guard, not as the
 // acceptance: image means within 1.5 %, RMSE within 12 %, energy within 1 %. The means' bar was 1 %
 // until the oracle's reflection term (docs/glossy.md) moved gathering's mean at this coarse eps from
 // 0.9925 to 0.9849 of the path tracer's (seed 1; shoot vs gather 1.0138): over seeds 1-3 gathering's
@@ -80,6 +83,59 @@ TEST(GlossyShooting, ThreeLightsImageAgreesWithGathering) {
   EXPECT_NEAR(m.meanRatio, 1.0, 0.015);
   EXPECT_LT(m.relRmse, 0.12);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(balance(s.solved, c), 1.0, 0.01) << "channel " << c;
+}
+
+/// three_lights.json with each disk light (16 patches) replaced by a square of the same area in its
+/// plane, one patch: shooters are patches and gathering's senders may be clusters, so a light of
+/// many patches is refined differently by the two schemes (below).
+std::string threeSquareLights() {
+  nlohmann::json scene = nlohmann::json::parse(sceneText("three_lights.json"));
+  for (auto& o : scene["objects"]) {
+    if (o["type"] != "disk") continue;
+    const hr::Vec3 c(o["center"][0], o["center"][1], o["center"][2]);
+    const hr::Vec3 n = glm::normalize(hr::Vec3(o["normal"][0], o["normal"][1], o["normal"][2]));
+    const hr::Vec3 a = std::abs(n.x) < 0.9 ? hr::Vec3(1, 0, 0) : hr::Vec3(0, 1, 0);
+    const hr::Vec3 u = glm::normalize(a - n * glm::dot(a, n)), v = glm::cross(n, u);  // u x v = n
+    const double h = 0.5 * std::sqrt(hr::kPi) * double(o["radius"]);                   // (2h)^2 = pi r^2
+    nlohmann::json quad = {{"type", "quad"}, {"material", o["material"]}, {"vertices", nlohmann::json::array()}};
+    const double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (const auto& k : corner) {
+      const hr::Vec3 p = c + h * k[0] * u + h * k[1] * v;
+      quad["vertices"].push_back({p.x, p.y, p.z});
+    }
+    o = quad;
+  }
+  return scene.dump();
+}
+
+// The acceptance's 1 % where the two schemes discretise alike. On three_lights.json itself the gap
+// (5.0 % at its eps 1e-4, seeds 1 and 2; gathering against itself 0.9-1.3 %) is a difference of
+// discretisation, not of transport: each disk light is 16 patches, gathering sends them through
+// cluster links whose bounds refine the receivers 3.4x as finely in its first iteration (5,679
+// elements against shooting's 1,691), and the two meet as eps falls (0.99 % at eps 1e-5). With each
+// light one patch both refine alike (1,642 elements after the first pass in both) and the images
+// agree to 0.65-0.71 % (seeds 1-4; each scheme against itself with another seed 0.58-0.79 %), so a
+// defect of glossy shooting's transport (stale light in split children, a final answer that is not
+// the fixed point of its links) shows here as more than 1 %.
+TEST(GlossyShooting, SquareLightsImageAgreesWithGatheringWithinOnePercent) {
+  const std::string text = threeSquareLights();
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(text, "").settings);
+  auto run = [&](hr::Iteration it) {
+    o.iteration = it;
+    Solve r;
+    r.ext = make("is");
+    r.solved = testutil::solveText(text, o, r.ext.get());
+    hr::Solution sol = hr::makeSolution(r.solved.scene, *r.solved.h, r.solved.solver->radiosity());
+    r.image = hr::render(sol, sol.cameras.front(), r.ext.get());
+    return r;
+  };
+  Solve g = run(hr::Iteration::Gather), s = run(hr::Iteration::Shoot);
+  ASSERT_TRUE(s.solved.stats.converged);
+  ref::Metrics m = lightsMasked(s, g);
+  std::printf("three square lights (eps %g): shoot vs gather rel RMSE %.4f, mean ratio %.4f; elements %zu vs %zu\n", o.eps,
+              m.relRmse, m.meanRatio, s.solved.h->elements().size(), g.solved.h->elements().size());
+  EXPECT_LT(m.relRmse, 0.01);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.005);
 }
 
 // A shooting pass carries the samples of its shooters' links only, and they are dropped after
