@@ -8,7 +8,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -29,13 +33,23 @@ inline double stat(const std::vector<hr::StatEntry>& s, const char* name) {
 }
 
 /// The common command line: [SOURCE_DIR] [--quick] (other flags are the bench's own).
-inline void sourceAndQuick(int argc, char** argv, std::string& src, bool& quick) {
+/// `more`: the bench's other flags, which it reads itself. Any other flag (a typo, --help) stops
+/// with exit 2 rather than starting the bench's full, half-hour run as if it were not there.
+inline void sourceAndQuick(int argc, char** argv, std::string& src, bool& quick,
+                           std::initializer_list<const char*> more = {}) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick")
+    if (a == "--quick") {
       quick = true;
-    else if (a.rfind("--", 0) != 0)
+    } else if (a.rfind("--", 0) != 0) {
       src = a;
+    } else if (std::find(more.begin(), more.end(), a) == more.end()) {
+      std::string valid = "--quick";
+      for (const char* m : more) valid += std::string(", ") + m;
+      std::fprintf(stderr, "%s: unknown option '%s' (valid: %s, and a source directory)\n", argv[0], a.c_str(),
+                   valid.c_str());
+      std::exit(2);
+    }
   }
 }
 

@@ -139,7 +139,7 @@ void table1(const std::string& src, const std::filesystem::path& dir) {
 int main(int argc, char** argv) {
   std::string src = GHR_SOURCE_DIR;
   bool quick = false;
-  bench::sourceAndQuick(argc, argv, src, quick);
+  bench::sourceAndQuick(argc, argv, src, quick, {"--table1"});
   bool onlyTable1 = false;
   for (int i = 1; i < argc; ++i) onlyTable1 = onlyTable1 || std::strcmp(argv[i], "--table1") == 0;
   std::vector<Setting> settings = {{"three_lights", "0.5", "1", "3"},
