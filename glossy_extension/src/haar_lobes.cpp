@@ -7,6 +7,8 @@
 #include <glossy/haar_sum.h>
 #include <glossy/phong_power.h>
 
+#include "lobe_cache.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cstring>
@@ -119,11 +121,22 @@ class Integrator {
       depositAxis();
       return;
     }
-    cells_.clear();
-    blocks_.clear();
-    deep_.clear();
-    for (std::uint64_t f = 0; f < 4; ++f) visit(0, f);
-    evaluate();
+    // The unit lobe's shares of the stored cells, from the memo or integrated now (lobe_cache.h);
+    // either way deposited from the list, so a hit and a miss give the same bits.
+    const LobeCache::Key key{{m_.x, m_.y, m_.z}, power_.exponent(), p_.store};
+    std::span<const CellShare> shares;
+    if (cache_.find(key, shares)) {
+      ++cache_.hits;
+    } else {
+      ++cache_.misses;
+      cells_.clear();
+      blocks_.clear();
+      deep_.clear();
+      for (std::uint64_t f = 0; f < 4; ++f) visit(0, f);
+      evaluate();
+      shares = cache_.insert(key, shares_);
+    }
+    for (const CellShare& c : shares) deposit(c.cell, c.integral);
   }
   std::uint64_t evaluations() const { return evaluations_; }
 
@@ -175,11 +188,18 @@ class Integrator {
     std::size_t k = 0;
     for (; k + 2 <= nb; k += 2) blockIntegrals<2>(&blocks_[k], m_, power_, &values_[k]);
     if (k < nb) blockIntegrals<1>(&blocks_[k], m_, power_, &values_[k]);
+    // Quadrature cells are collected depth first, so those inside one stored cell are consecutive:
+    // each stored cell gets one share, the sum of its quadrature cells' integrals.
     const int per = ruleBlocks(p_.rule), shift = 2 * (p_.quad - p_.store);
+    shares_.clear();
     for (std::size_t c = 0; c < cells_.size(); ++c) {
       double s = 0.0;
       for (int b = 0; b < per; ++b) s += values_[c * std::size_t(per) + std::size_t(b)];
-      deposit(cells_[c] >> shift, s);
+      const auto cell = std::uint32_t(cells_[c] >> shift);
+      if (!shares_.empty() && shares_.back().cell == cell)
+        shares_.back().integral += s;
+      else
+        shares_.push_back({cell, s});
     }
     evaluations_ += cells_.size() * std::uint64_t(rulePoints(p_.rule));
   }
@@ -209,6 +229,8 @@ class Integrator {
   std::vector<const double*> blocks_;   // their point blocks, in order
   std::vector<CellPoints> deep_;        // points of cells below the tables
   std::vector<double> values_;
+  std::vector<CellShare> shares_;       // the lobe's shares of the stored cells (a memo miss)
+  LobeCache& cache_ = lobeCache();
   Vec3 m_{0, 0, 1};
   Rgb weight_{0.0};
   std::uint64_t evaluations_ = 0;

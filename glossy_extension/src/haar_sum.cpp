@@ -2,6 +2,7 @@
 // target cell (a cursor per term: the node of that cell, or the leaf above it); a term in another
 // frame is integrated over each target cell by descending its tree, taking whole cells inside the
 // target cell at their mean and clipping leaf cells that straddle its edges.
+#include <glossy/cell_rules.h>
 #include <glossy/haar_sum.h>
 #include <glossy/spherical_geometry.h>
 
@@ -69,7 +70,7 @@ class SumBuilder {
     Cell cell{SphericalPolygon::triangle(c[0], c[1], c[2]), {}, Cap::around(FaceTri{{c[0], c[1], c[2]}})};
     insideNormals(c[0], c[1], c[2], cell.inward);
     Rgb acc(0.0);
-    for (int f = 0; f < 8; ++f) visit(*r.tree, std::uint32_t(f), octaRoot(f), cell, acc);
+    for (int f = 0; f < 8; ++f) visit(*r.tree, std::uint32_t(f), octaRoot(f), f, 0, std::uint64_t(f), cell, acc);
     return acc;
   }
 
@@ -79,15 +80,18 @@ class SumBuilder {
     Cap cap;
   };
 
-  void visit(const HaarDistribution& s, std::uint32_t i, const FaceTri& st, const Cell& cell, Rgb& acc) {
+  /// face, level and index name the source cell for the tables of caps and solid angles (CellGeometry).
+  void visit(const HaarDistribution& s, std::uint32_t i, const FaceTri& st, int face, int level, std::uint64_t index,
+             const Cell& cell, Rgb& acc) {
     const Node& n = s.nodes()[i];
     if (n.rgb[0] == 0.0f && n.rgb[1] == 0.0f && n.rgb[2] == 0.0f) return;  // non-negative: all zero below
-    if (!Cap::around(st).overlaps(cell.cap)) return;
+    const CellGeometry g(st, face, level, index);
+    if (!g.cap.overlaps(cell.cap)) return;
     bool inside = true;
     for (int k = 0; k < 3 && inside; ++k)
       for (int j = 0; j < 3 && inside; ++j) inside = glm::dot(st.dir(k), cell.inward[j]) >= 0.0;
     if (inside) {  // the whole source cell lies in the target cell: its mean is exact
-      acc += value(n) * st.solidAngle();
+      acc += value(n) * g.solidAngle(st);
       return;
     }
     if (n.child == 0) {
@@ -100,7 +104,8 @@ class SumBuilder {
       acc += value(n) * p.area();
       return;
     }
-    for (std::uint32_t k = 0; k < 4; ++k) visit(s, n.child + k, st.child(int(k)), cell, acc);
+    for (std::uint32_t k = 0; k < 4; ++k)
+      visit(s, n.child + k, st.child(int(k)), face, level + 1, 4 * index + k, cell, acc);
   }
 
   bool wide(const Rgb m[4], const Rgb& mean) const {

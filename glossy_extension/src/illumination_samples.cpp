@@ -240,6 +240,8 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   Counters::add(counters_->samplesKept, rc.kept);
   Counters::add(counters_->samplesDropped, rc.dropped);
   Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
+  Counters::add(counters_->lobesFromMemo, rc.lobesFromMemo);
+  Counters::add(counters_->lobesIntegrated, rc.lobesIntegrated);
   return out;
 }
 
@@ -440,6 +442,8 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"samples_merged_away", v(c.samplesReceived) - v(c.samplesDropped) - v(c.samplesKept)},
       {"samples_dropped_no_front_light", v(c.samplesDropped)},
       {"brdf_evaluations", v(c.brdfEvaluations)},
+      {"lobes_integrated", v(c.lobesIntegrated)},
+      {"lobes_from_memo", v(c.lobesFromMemo)},
       {"gather_calls", v(c.gatherCalls)},
       {"reflect_leaf_visits", v(c.reflectCalls)},
       {"pull_node_visits", v(c.pullCalls)},

@@ -66,15 +66,19 @@ class UpperCells {
 };
 
 /// The hull cap and solid angle of a cell reached by descent from octaRoot(face) (t its planar
-/// corners, index its number as above when the face is an upper one): from the tables where they
-/// hold it, otherwise computed (Cap::around, solidAngle); the same values either way.
+/// corners, index its number as above, counting on through the lower faces 4-7): from the tables where
+/// they hold it, otherwise computed (Cap::around, solidAngle); the same values either way. A lower
+/// face is its upper face mirrored in z (octaRoot), and so is every cell below it, to the bit (negating
+/// z is exact and the cap's dot products do not change): a world-frame cluster's tree reads the tables
+/// for its lower half too.
 struct CellGeometry {
   Cap cap;
   double omega = -1.0;  // < 0: not tabulated, t.solidAngle() when needed
   CellGeometry(const FaceTri& t, int face, int level, std::uint64_t index) {
-    if (face < 4 && level <= UpperCells::kTableLevel) {
-      const CellCap& c = UpperCells::capsOf(level)[index];
-      cap.centre = Vec3(c.cx, c.cy, c.cz);
+    if (level <= UpperCells::kTableLevel) {
+      const bool lower = face >= 4;
+      const CellCap& c = UpperCells::capsOf(level)[lower ? index - (std::uint64_t(4) << (2 * level)) : index];
+      cap.centre = Vec3(c.cx, c.cy, lower ? -c.cz : c.cz);
       cap.cosR = c.cosR;
       cap.sinR = c.sinR;
       omega = c.omega;

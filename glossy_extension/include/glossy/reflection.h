@@ -30,6 +30,8 @@ struct LobeSample {
 
 struct ReflectCounts {
   std::uint64_t received = 0, kept = 0, dropped = 0, brdfEvaluations = 0;
+  /// Haar: lobes whose cell integrals came from the per-thread memo, and lobes integrated anew.
+  std::uint64_t lobesFromMemo = 0, lobesIntegrated = 0;
 };
 
 /// The lobes of one leaf: I(w) = max(0, normal.w) sum_j weight_j max(0, mirror_j.w)^exponent.

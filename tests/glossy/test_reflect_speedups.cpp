@@ -1,0 +1,143 @@
+// The two shortcuts of reflection that must not change a bit of its result: the per-thread memo of a
+// lobe's cell integrals (a projection from the memo equals one integrated afresh, on another thread
+// with an empty memo) and the grid that finds a sample's merge group (the same groups as comparing each
+// sample with every group before it, the rule makeLobes states).
+#include <glossy/brdf.h>
+#include <glossy/is_options.h>
+#include <glossy/reflection.h>
+#include <gtest/gtest.h>
+
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "fake_host.h"
+
+namespace {
+
+using glossy::Rgb;
+using glossy::Vec3;
+using glossy::kPi;
+
+std::vector<hr::IncidentSample> spreadSamples(std::uint64_t seed, int count, const Vec3& centre, double spread) {
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<hr::IncidentSample> out;
+  for (int k = 0; k < count; ++k) {
+    Vec3 d = testhost::around(centre, spread * std::sqrt(u(g)), 2.0 * kPi * u(g));
+    out.push_back(testhost::sample(d, std::pow(10.0, -3.0 * u(g)) * Rgb(0.5 + u(g), 0.5 + u(g), 0.5 + u(g))));
+  }
+  return out;
+}
+
+std::string bytesOf(const glossy::AnyDistribution& d) {
+  std::ostringstream s;
+  std::get<glossy::HaarDistribution>(d).serialize(s);
+  return s.str();
+}
+
+/// Projects the samples as one leaf would (frame of +z, exponent n, level 4), returning the
+/// distribution's bytes and the memo counts.
+std::string project(const std::vector<hr::IncidentSample>& samples, double n, glossy::ReflectCounts& rc) {
+  glossy::BasisSpec b = glossy::defaultIsBasis();
+  b.haar.maxLevel = 4;
+  glossy::LobeSet lobes =
+      glossy::makeLobes(samples, glossy::Frame::world(), Vec3(0, 0, 1), 0.25, Rgb(0.5, 0.4, 0.3), n, 0.0, rc);
+  return bytesOf(glossy::projectLobes(lobes, b, rc));
+}
+
+TEST(LobeMemo, ReplayedLobesGiveTheBitsOfAFreshIntegration) {
+  // Lobes over the whole hemisphere, broad to sharp (the Soda Shoppe's exponents).
+  for (double n : {40.0, 406.163, 2220.22, 1e4}) {
+    auto samples = spreadSamples(7, 300, Vec3(0, 0, 1), 0.5 * kPi);
+    // A second leaf sharing half of the first's samples (its ancestors') and adding its own.
+    auto other = spreadSamples(8, 150, Vec3(0, 0, 1), 0.5 * kPi);
+    other.insert(other.begin(), samples.begin(), samples.begin() + 150);
+    glossy::ReflectCounts warm, replay;
+    const std::string first = project(samples, n, warm);
+    const std::string again = project(samples, n, replay);
+    const std::string mixed = project(other, n, warm);
+    // The same projections on a thread whose memo is empty: every lobe integrated afresh.
+    std::string freshFirst, freshMixed;
+    glossy::ReflectCounts cold;
+    std::thread([&] {
+      freshFirst = project(samples, n, cold);
+      glossy::ReflectCounts c2;
+      std::thread([&] { freshMixed = project(other, n, c2); }).join();
+    }).join();
+    // (Compared as booleans: a failure would print megabytes of serialized trees.)
+    EXPECT_TRUE(first == again) << "replay differs, n = " << n;
+    EXPECT_TRUE(first == freshFirst) << "memo differs from a fresh integration, n = " << n;
+    EXPECT_TRUE(mixed == freshMixed) << "partly replayed leaf differs, n = " << n;
+    // The replay did come from the memo, with no BRDF evaluated; the second leaf's shared half too.
+    EXPECT_EQ(replay.lobesFromMemo, 300u) << n;
+    EXPECT_EQ(replay.brdfEvaluations, 0u) << n;
+    EXPECT_EQ(warm.lobesFromMemo, 150u) << n;
+    EXPECT_EQ(warm.lobesIntegrated, 300u + 150u) << n;
+    EXPECT_EQ(cold.lobesFromMemo, 0u) << n;
+  }
+}
+
+/// makeLobes' grouping by its stated rule, comparing each sample with every group before it.
+struct Group {
+  Vec3 seed, sum;
+  Rgb e;
+};
+std::vector<Group> scanGroups(const std::vector<hr::IncidentSample>& samples, double merge) {
+  struct Item {
+    Vec3 mirror;
+    Rgb e;
+    double w;
+    std::size_t index;
+  };
+  std::vector<Item> items;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    Vec3 wi = samples[i].toSender / glm::length(samples[i].toSender);
+    if (!(wi.z > 0.0)) continue;
+    const Rgb& e = samples[i].irradiance;
+    items.push_back({glossy::mirror(wi, Vec3(0, 0, 1)), e, e.x + e.y + e.z, i});
+  }
+  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.w != b.w ? a.w > b.w : a.index < b.index; });
+  std::vector<Group> groups;
+  for (const Item& it : items) {
+    Group* g = nullptr;
+    for (Group& c : groups)
+      if (glm::dot(c.seed, it.mirror) >= std::cos(merge)) {
+        g = &c;
+        break;
+      }
+    if (!g) {
+      groups.push_back({it.mirror, Vec3(0.0), Rgb(0.0)});
+      g = &groups.back();
+    }
+    g->sum += it.w * it.mirror;
+    g->e += it.e;
+  }
+  return groups;
+}
+
+TEST(MergeGrid, FindsTheGroupsAScanOfAllGroupsFinds) {
+  // Dense clusters of directions, so that most samples have several groups within the angle and the
+  // first one must be picked; angles from a sharp lobe's bin to a wide one's.
+  for (double merge : {1e-4, 2e-3, 0.02, 0.2}) {
+    std::vector<hr::IncidentSample> samples;
+    for (int c = 0; c < 6; ++c) {
+      auto part = spreadSamples(11 + c, 120, testhost::around(Vec3(0, 0, 1), 0.2 * c, 1.1 * c), 6.0 * merge);
+      samples.insert(samples.end(), part.begin(), part.end());
+    }
+    glossy::ReflectCounts rc;
+    glossy::LobeSet lobes =
+        glossy::makeLobes(samples, glossy::Frame::world(), Vec3(0, 0, 1), 1.0, Rgb(1.0), 100.0, merge, rc);
+    std::vector<Group> want = scanGroups(samples, merge);
+    ASSERT_EQ(lobes.samples.size(), want.size()) << merge;
+    EXPECT_LT(want.size(), samples.size()) << merge;  // merging did happen
+    const double scale = 102.0 / (2.0 * kPi);         // A rho_s (n + 2) / (2 pi), A = rho_s = 1
+    for (std::size_t k = 0; k < want.size(); ++k) {
+      double len = glm::length(want[k].sum);
+      EXPECT_EQ(lobes.samples[k].mirror, len > 0.0 ? want[k].sum / len : want[k].seed) << merge << " group " << k;
+      EXPECT_EQ(lobes.samples[k].weight, scale * want[k].e) << merge << " group " << k;
+    }
+  }
+}
+
+}  // namespace
