@@ -12,6 +12,7 @@
 #include <bit>
 #include <map>
 #include <sstream>
+#include <streambuf>
 
 namespace glossy {
 
@@ -28,6 +29,56 @@ std::uint64_t fnv1a(std::string_view bytes) {
   for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
   return h;
 }
+
+/// Counts what is written to it (the size a record will take).
+class CountingBuffer : public std::streambuf {
+ public:
+  std::uint64_t bytes() const { return n_; }
+
+ protected:
+  std::streamsize xsputn(const char*, std::streamsize n) override { return n_ += std::uint64_t(n), n; }
+  int_type overflow(int_type c) override { return traits_type::eq_int_type(c, traits_type::eof()) ? c : (++n_, c); }
+
+ private:
+  std::uint64_t n_ = 0;
+};
+
+/// Appends what is written to it to a string (reserved by the caller: no regrowth).
+class AppendBuffer : public std::streambuf {
+ public:
+  explicit AppendBuffer(std::string& s) : s_(s) {}
+
+ protected:
+  std::streamsize xsputn(const char* p, std::streamsize n) override { return s_.append(p, std::size_t(n)), n; }
+  int_type overflow(int_type c) override {
+    if (!traits_type::eq_int_type(c, traits_type::eof())) s_.push_back(traits_type::to_char_type(c));
+    return c;
+  }
+
+ private:
+  std::string& s_;
+};
+
+/// A read-only stream over bytes the caller keeps: loading a large section read it through a copy.
+class ViewBuffer : public std::streambuf {
+ public:
+  explicit ViewBuffer(std::string_view v) {
+    char* p = const_cast<char*>(v.data());  // get area only: nothing is written through it
+    setg(p, p, p + v.size());
+  }
+
+ protected:
+  // tellg and seekg, within the bytes (as an istringstream over a copy of them would allow).
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override {
+    if (which & std::ios_base::out) return pos_type(off_type(-1));
+    const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? gptr() - eback() : egptr() - eback();
+    const off_type to = base + off;
+    if (to < 0 || to > egptr() - eback()) return pos_type(off_type(-1));
+    setg(eback(), eback() + to, egptr());
+    return pos_type(to);
+  }
+  pos_type seekpos(pos_type p, std::ios_base::openmode which) override { return seekoff(off_type(p), std::ios_base::beg, which); }
+};
 
 std::uint64_t u64At(std::string_view b, std::size_t at) {
   std::uint64_t v = 0;
@@ -83,7 +134,27 @@ void checkHaar(const HaarDistribution& h, int maxLevel) {
 }  // namespace
 
 std::string IlluminationSamples::save() const {
-  std::ostringstream out;
+  std::vector<std::uint32_t> leaves;
+  for (std::size_t i = 0; i < elements_.size(); ++i)
+    if (elements_[i] && isLeaf(i)) leaves.push_back(std::uint32_t(i));
+  auto record = [&](std::uint32_t i, std::ostream& out) {
+    std::visit([&](const auto& d) { d.serialize(out); }, elements_[i]->dist);
+  };
+  // The section is written once into a string of its exact size, counted first: a growing stream
+  // held its old and new buffers at once (1.5x the section, hundreds of megabytes on the Soda Shoppe).
+  std::vector<std::uint64_t> sizes(leaves.size());
+  std::size_t total = 4 * 4 + 8 + 4 * 4 + 8 + 8;  // header, leaf count, checksum
+  for (std::size_t k = 0; k < leaves.size(); ++k) {
+    CountingBuffer count;
+    std::ostream c(&count);
+    record(leaves[k], c);
+    sizes[k] = count.bytes();
+    total += 4 + 4 + 8 + sizes[k];
+  }
+  std::string bytes;
+  bytes.reserve(total);
+  AppendBuffer append(bytes);
+  std::ostream out(&append);
   serial::writeU32(out, kMagic);
   serial::writeU32(out, formatVersion());
   serial::writeU32(out, basis_.automatic ? 1u : 0u);
@@ -93,30 +164,25 @@ std::string IlluminationSamples::save() const {
   serial::writeU32(out, std::uint32_t(basis_.haar.maxLevel));
   serial::writeU32(out, std::uint32_t(basis_.tetraLevel));
   serial::writeU32(out, std::uint32_t(basis_.shOrder));
-  std::vector<std::uint32_t> leaves;
-  for (std::size_t i = 0; i < elements_.size(); ++i)
-    if (elements_[i] && isLeaf(i)) leaves.push_back(std::uint32_t(i));
   serial::writeU64(out, leaves.size());
-  for (std::uint32_t i : leaves) {
-    std::ostringstream rec;
-    std::visit([&](const auto& d) { d.serialize(rec); }, elements_[i]->dist);
-    std::string r = rec.str();
-    serial::writeU32(out, i);
-    serial::writeU32(out, std::uint32_t(elements_[i]->dist.index()));
-    serial::writeU64(out, r.size());
-    out.write(r.data(), std::streamsize(r.size()));
+  for (std::size_t k = 0; k < leaves.size(); ++k) {
+    serial::writeU32(out, leaves[k]);
+    serial::writeU32(out, std::uint32_t(elements_[leaves[k]]->dist.index()));
+    serial::writeU64(out, sizes[k]);
+    record(leaves[k], out);
   }
-  std::string body = out.str();
-  std::ostringstream tail;
-  serial::writeU64(tail, fnv1a(body));
-  return body + tail.str();
+  serial::writeU64(out, fnv1a(bytes));
+  out.flush();
+  if (bytes.size() != total) throw std::logic_error("solution section: counted and written sizes differ");
+  return bytes;
 }
 
 void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view) {
   if (bytes.size() < 8 + 44) refuse("truncated (" + std::to_string(bytes.size()) + " bytes)");
   std::string_view body = bytes.substr(0, bytes.size() - 8);
   if (fnv1a(body) != u64At(bytes, bytes.size() - 8)) refuse("checksum mismatch: the section is damaged or truncated");
-  std::istringstream in{std::string(body)};
+  ViewBuffer bodyView(body);
+  std::istream in(&bodyView);
   BasisSpec b = defaultIsBasis();
   std::vector<std::unique_ptr<NodeLight>> table(view.elementCount());
   std::map<std::uint32_t, Basis> seen;  // material -> the basis its records are in
@@ -162,7 +228,8 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
       if (size > body.size() - at) refuse(where + ": record runs past the end of the section");
       std::string_view rec = body.substr(at, size);
       if (expectedRecordBytes(rec, rb) != size) refuse(where + ": record size does not match its contents");
-      std::istringstream rin{std::string(rec)};
+      ViewBuffer recView(rec);
+      std::istream rin(&recView);
       auto l = std::make_unique<NodeLight>();
       switch (rb) {
         case Basis::Haar: {

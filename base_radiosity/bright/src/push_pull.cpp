@@ -33,8 +33,9 @@ void gatherLinks(SolverState& s) {
       NodeId recv = s.links[s.groupStart[g]].receiver;
       for (std::uint32_t i = s.groupStart[g]; i < s.groupStart[g + 1]; ++i) {
         Link& l = s.links[i];
-        Rgb e = double(l.coef) * s.senderValue(l);
+        Rgb e = double(l.coef) * s.senderValue(l);  // may read the extension's share kept in E
         l.E = glm::vec3(e);
+        l.extCache = 0;
         sum += e;
       }
       if (!recv.isCluster()) s.Eg[recv.index()] = sum;

@@ -83,14 +83,17 @@ double extensionVariation(const SolverState& s, const Link& l, bool wholeSphere)
 class SenderLuminance {
  public:
   SenderLuminance(const SolverState& s, const Link& l) : s_(s), l_(l) {}
+  /// A link of the pass's own array: the extension's share is kept in it for the next reads.
+  SenderLuminance(const SolverState& s, Link& l) : s_(s), l_(l), keep_(&l) {}
   double operator()() const {
-    if (!known_) value_ = luminance(s_.senderValue(l_)), known_ = true;
+    if (!known_) value_ = luminance(keep_ ? s_.senderValue(*keep_) : s_.senderValue(l_)), known_ = true;
     return value_;
   }
 
  private:
   const SolverState& s_;
   const Link& l_;
+  Link* keep_ = nullptr;
   mutable double value_ = 0.0;
   mutable bool known_ = false;
 };
@@ -178,7 +181,7 @@ double reflectionError(const SolverState& s, const Link& l, const SenderLuminanc
 /// emitted power per link (eps 1 on the Cornell uplight lost 42 % before).
 constexpr double kPowerTolerance = 1e-3;
 
-Action decide(const SolverState& s, const Link& l, double threshold) {
+Action decide(const SolverState& s, Link& l, double threshold) {
   const double powerThreshold = std::min(threshold, kPowerTolerance * s.emittedPower);
   if (l.sender == l.receiver) return l.sender.isCluster() ? Action::SplitSelf : Action::Drop;
   bool cs = canSplit(s, l.sender), cr = canSplit(s, l.receiver);
@@ -439,7 +442,7 @@ std::size_t receiverPass(SolverState& s, LinkArray& kept, std::size_t from, Link
       NodeId recv = kept[idx[start[g]]].receiver;
       double e[5] = {0, 0, 0, 0, 0};
       for (std::uint32_t i = start[g]; i < start[g + 1]; ++i) {
-        const Link& l = kept[idx[i]];
+        Link& l = kept[idx[i]];
         if (l.sender.isCluster() || l.bound <= 0.0f) continue;
         double S = luminance(s.senderValue(l)) * (double(l.coef) / l.bound);  // times the visible fraction
         for (int k = 0; k < 5; ++k) e[k] += S * l.at[k];

@@ -9,6 +9,8 @@
 
 #include "solver_state.h"
 
+#include <utility>
+
 #include "counting_sort.h"
 
 namespace hr::detail {
@@ -63,43 +65,52 @@ void SolverState::growArrays() {
   });
 }
 
-Rgb SolverState::senderValue(const Link& l) const {
-  const Vec3 toRecv = -Vec3(l.dir);
-  Rgb v(0.0);
+Rgb SolverState::hostValue(const Link& l) const {
   if (l.sender.isCluster()) {
     assert(!shooting && "shooters are patches: a cluster never sends unshot light");
-    v = clusterIntensity(l.sender.index(), toRecv);
-  } else {
-    const Element& e = h.element(l.sender.index());
-    double ws = l.wkid[0] + l.wkid[1] + l.wkid[2] + l.wkid[3];
-    if (!e.leaf() && ws > 0.0) {
-      // An inner sender sends the visibility-weighted mean of its children (docs/solver.md), each
-      // child's value taken where the receiver sees it: its radiosity's linear fit at the link's
-      // seen offset. The children's means alone missed that the parts of a sender nearest its
-      // receiver tend to be the ones the receiver lights (1 % of the Cornell box's light was lost).
-      // While shooting, the fit is of the unshot radiosity (push_pull.cpp).
-      for (int k = 0; k < 4; ++k) {
-        const std::uint32_t c = e.firstChild + k;
-        const double r = h.element(c).radius / 127.0;
-        v += double(l.wkid[k]) * glm::max(Rgb(0.0), sent()[c] + gradU[c] * (r * l.seen[k][0]) + gradV[c] * (r * l.seen[k][1]));
-      }
-      v /= ws;
-    } else {
-      v = sent()[l.sender.index()];
-    }
+    return clusterIntensity(l.sender.index(), -Vec3(l.dir));
   }
-  if (ext && isOwned(l.sender)) {
-    // Additive: the extension's directional share joins the host's Lambertian light. Toward an
-    // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
-    // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
-    if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return v + extensionNearField(l);
-    Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
-    if (l.sender.isCluster()) return v + I;
-    const Element& e = h.element(l.sender.index());
-    double c = glm::dot(e.normal, toRecv);
-    if (c > 1e-6) v += kPi * I / (e.area * c);
+  const Element& e = h.element(l.sender.index());
+  double ws = l.wkid[0] + l.wkid[1] + l.wkid[2] + l.wkid[3];
+  if (e.leaf() || !(ws > 0.0)) return sent()[l.sender.index()];
+  // An inner sender sends the visibility-weighted mean of its children (docs/solver.md), each
+  // child's value taken where the receiver sees it: its radiosity's linear fit at the link's
+  // seen offset. The children's means alone missed that the parts of a sender nearest its
+  // receiver tend to be the ones the receiver lights (1 % of the Cornell box's light was lost).
+  // While shooting, the fit is of the unshot radiosity (push_pull.cpp).
+  Rgb v(0.0);
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t c = e.firstChild + k;
+    const double r = h.element(c).radius / 127.0;
+    v += double(l.wkid[k]) * glm::max(Rgb(0.0), sent()[c] + gradU[c] * (r * l.seen[k][0]) + gradV[c] * (r * l.seen[k][1]));
   }
-  return v;
+  return v / ws;
+}
+
+Rgb SolverState::extensionShare(const Link& l) const {
+  if (!ext || !isOwned(l.sender)) return Rgb(0.0);
+  // Additive: the extension's directional share joins the host's Lambertian light. Toward an
+  // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
+  // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
+  if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return extensionNearField(l);
+  const Vec3 toRecv = -Vec3(l.dir);
+  Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
+  if (l.sender.isCluster()) return I;
+  const Element& e = h.element(l.sender.index());
+  double c = glm::dot(e.normal, toRecv);
+  return c > 1e-6 ? kPi * I / (e.area * c) : Rgb(0.0);
+}
+
+Rgb SolverState::senderValue(const Link& l) const { return hostValue(l) + extensionShare(l); }
+
+Rgb SolverState::senderValue(Link& l) const {
+  if (!ext || shooting || l.receiver.isCluster() || !isOwned(l.sender)) return senderValue(std::as_const(l));
+  const std::uint8_t state = l.sender.isCluster() || h.element(l.sender.index()).leaf() ? 1 : 2;
+  if (l.extCache != state) {
+    l.E = glm::vec3(extensionShare(l));
+    l.extCache = state;
+  }
+  return hostValue(l) + Rgb(l.E);
 }
 
 /// (r_s + r_r) / d below which a glossy sender's light is averaged over its receiver.

@@ -34,10 +34,17 @@ struct Link {
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
   bool measured = false;  // an overlapping element-to-cluster link's power was measured by rays (measureOverlap)
+  // Between a push/pull and the next gather (when E is not read), E may hold the extension's share of
+  // the sender's value toward an element receiver (SolverState::senderValue): 1 computed while the
+  // sender was a leaf element or a cluster, 2 while it was an inner element; 0 none. In the padding:
+  // the link is no larger for it.
+  std::uint8_t extCache = 0;
   // Where in each sender child the receiver sees it: the visible-kernel-weighted mean of the rays'
   // ends about the child's area centroid, along the child's plane axes, in 1/127 of its radius.
   std::int8_t seen[4][2] = {};
 };
+
+static_assert(sizeof(Link) <= 100, "a link's size is most of a solve's memory: keep extCache in the padding");
 
 /// An element's in-plane axes, along its first edge and across it: the frame of its radiosity
 /// gradient (SolverState::gradU, gradV) and of the links' `seen` offsets.
@@ -167,6 +174,16 @@ struct SolverState {
   /// The sender's quantity for a link: radiosity for elements (W/m^2), intensity toward the
   /// receiver for clusters (W/sr), the extension's share included.
   Rgb senderValue(const Link& l) const;
+  /// The same, keeping the extension's share toward an element receiver in the link (Link::extCache)
+  /// while gathering: refinement reads it twice (the oracle, the receiver pass) and the next gather
+  /// once more, all from the same light, and each read integrated a glossy sender's distribution over
+  /// the receiver (half of a glossy Soda Shoppe solve). The kept share is the float E holds, and so
+  /// is a fresh one: the value is the same whichever caller computed it first.
+  Rgb senderValue(Link& l) const;
+  /// senderValue without the extension's share.
+  Rgb hostValue(const Link& l) const;
+  /// The extension's share of senderValue (zero without one or for a sender it does not simulate).
+  Rgb extensionShare(const Link& l) const;
   /// The extension's intensity of the link's sender averaged over directions to an element
   /// receiver, W/sr.
   Rgb extensionOverReceiver(const Link& l) const;

@@ -1,6 +1,8 @@
 // The tagged-section container (see hr/section_file.h).
 #include <array>
 #include <cstring>
+#include <ostream>
+#include <sstream>
 #include <hr/echo.h>
 #include <hr/section_file.h>
 #include <hr/types.h>
@@ -47,27 +49,46 @@ std::uint32_t crc32(std::string_view bytes, std::uint32_t crc) {
 }
 
 SectionWriter::SectionWriter(std::string_view magic, std::uint32_t version) {
-  buf_.append(magic);
-  put(buf_, version);
+  std::string head(magic);
+  put(head, version);
+  chunks_.push_back(owned_.emplace_back(std::move(head)));
 }
 
-void SectionWriter::add(std::string_view name, std::string_view payload) {
+void SectionWriter::add(std::string_view name, std::string payload) {
+  const std::string& kept = owned_.emplace_back(std::move(payload));
+  addPieces(name, {kept});
+}
+
+void SectionWriter::addPieces(std::string_view name, std::initializer_list<std::string_view> pieces) {
   if (name.empty() || name.size() > kMaxName) throw std::logic_error("section name must have 1-64 bytes");
+  std::uint64_t size = 0;
+  for (std::string_view p : pieces) size += p.size();
   std::string head;
   put(head, static_cast<std::uint32_t>(name.size()));
   head.append(name);
-  put(head, static_cast<std::uint64_t>(payload.size()));
-  std::uint32_t crc = crc32(payload, crc32(head));
-  buf_ += head;
-  put(buf_, crc);
-  buf_.append(payload);
+  put(head, size);
+  std::uint32_t crc = crc32(head);
+  for (std::string_view p : pieces) crc = crc32(p, crc);
+  put(head, crc);
+  chunks_.push_back(owned_.emplace_back(std::move(head)));
+  for (std::string_view p : pieces) chunks_.push_back(p);
+}
+
+void SectionWriter::write(std::ostream& out) const {
+  std::uint32_t crc = 0;
+  for (std::string_view c : chunks_) {
+    out.write(c.data(), static_cast<std::streamsize>(c.size()));
+    crc = crc32(c, crc);
+  }
+  std::string trailer = "END!";
+  put(trailer, crc);
+  out.write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
 }
 
 std::string SectionWriter::finish() const {
-  std::string out = buf_;
-  out += "END!";
-  put(out, crc32(buf_));
-  return out;
+  std::ostringstream out;
+  write(out);
+  return std::move(out).str();
 }
 
 std::vector<Section> readSections(std::string_view b, std::string_view magic, std::uint32_t version,

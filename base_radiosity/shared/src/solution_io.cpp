@@ -5,6 +5,7 @@
 // after the checksums every value is validated again (ranges, indices, tree shape), so that even a
 // file with valid checksums but wrong content (a fuzzer's, or a buggy writer's) cannot crash render.
 #include <cstring>
+#include <fstream>
 #include <hr/echo.h>
 #include <hr/input_file.h>
 #include <hr/limits.h>
@@ -115,8 +116,11 @@ const std::string* findSection(const Solution& s, const std::string& name) {
   return nullptr;
 }
 
-std::string serializeSolution(const Solution& s) {
-  SectionWriter w(kMagic, kVersion);
+namespace {
+
+/// The file's sections; the extension's bytes, which can be most of the file, are not copied (the
+/// writer refers to them: `s` must outlive it).
+void addSections(const Solution& s, SectionWriter& w, std::string& extensionHead) {
   Out meta;
   meta.str(s.sceneName), meta.str(s.host), meta.str(s.algorithm), meta.pod(s.objectCount);
   w.add("meta", meta.take());
@@ -150,16 +154,38 @@ std::string serializeSolution(const Solution& s) {
   }
   w.add("elements", els.take());
   if (!s.extension.name.empty()) {
-    // The run's extension: its name in the extension table, its own format version, its bytes.
+    // The run's extension: its name in the extension table, its own format version, its bytes (as
+    // Out::str writes a string: a u32 length, then the bytes).
+    if (s.extension.bytes.size() > 0xFFFFFFFFu) throw std::runtime_error("the extension's data exceed 4 GiB");
     Out x;
-    x.str(s.extension.name), x.pod(s.extension.version), x.str(s.extension.bytes);
-    w.add(kExtensionSection, x.take());
+    x.str(s.extension.name), x.pod(s.extension.version), x.pod<std::uint32_t>(std::uint32_t(s.extension.bytes.size()));
+    extensionHead = x.take();
+    w.addPieces(kExtensionSection, {extensionHead, s.extension.bytes});
   }
-  for (const Section& sec : s.sections) w.add(sec.name, sec.payload);
+  for (const Section& sec : s.sections) w.addPieces(sec.name, {sec.payload});
+}
+
+}  // namespace
+
+std::string serializeSolution(const Solution& s) {
+  SectionWriter w(kMagic, kVersion);
+  std::string head;
+  addSections(s, w, head);
   return w.finish();
 }
 
-void saveSolution(const Solution& s, const std::string& path) { writeFileAtomically(path, serializeSolution(s)); }
+void saveSolution(const Solution& s, const std::string& path) {
+  // Streamed to the file: a glossy solution's sections are not copied into one string first.
+  SectionWriter w(kMagic, kVersion);
+  std::string head;
+  addSections(s, w, head);
+  writeAtomically(path, [&](const std::string& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    w.write(out);
+    out.close();
+    if (!out) throw std::runtime_error(path + ": cannot write file");
+  });
+}
 
 Solution parseSolution(std::string_view bytes, const std::string& path, bool verifyChecksums) {
   std::vector<Section> secs = readSections(bytes, kMagic, kVersion, path, verifyChecksums);

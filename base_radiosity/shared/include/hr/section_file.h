@@ -8,6 +8,9 @@
 // A damaged file is refused with a message naming the section; a new section is one more add().
 #pragma once
 #include <cstdint>
+#include <deque>
+#include <initializer_list>
+#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,12 +27,22 @@ struct Section {
 class SectionWriter {
  public:
   SectionWriter(std::string_view magic, std::uint32_t version);
-  void add(std::string_view name, std::string_view payload);
-  /// The whole file.
+  SectionWriter(const SectionWriter&) = delete;  // it holds views of its own strings
+  SectionWriter& operator=(const SectionWriter&) = delete;
+  /// A section whose payload the writer keeps a copy of.
+  void add(std::string_view name, std::string payload);
+  /// A section whose payload is these pieces one after another, not copied: each must outlive
+  /// write() and finish(). For large payloads (a glossy solution's directional data runs to hundreds
+  /// of megabytes, and every copy of it was resident at once while the file was written).
+  void addPieces(std::string_view name, std::initializer_list<std::string_view> pieces);
+  /// Streams the whole file; the trailer's checksum is computed on the way.
+  void write(std::ostream& out) const;
+  /// The whole file as one string.
   std::string finish() const;
 
  private:
-  std::string buf_;
+  std::deque<std::string> owned_;        // headers and copied payloads (a deque: views stay valid)
+  std::vector<std::string_view> chunks_;  // the file, in order, trailer excepted
 };
 
 /// Parses and verifies the container: magic, version, every section's bounds and checksum, the
