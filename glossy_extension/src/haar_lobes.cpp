@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstring>
+#include <stdexcept>
 
 namespace glossy {
 
@@ -259,17 +260,57 @@ void buildFine(const Scratch& s, int store, int level, std::uint64_t i, std::uin
 
 }  // namespace
 
-HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations) {
+namespace {
+
+/// Fills the scratch's stored level with base * scale and then the lobes' integrals.
+void deposit(Scratch& s, const LobeSet& lobes, int store, std::uint64_t& evaluations, const HaarCellSums* base,
+             double scale) {
+  s.prepare(store);
+  if (base) {
+    if (base->level != store) throw std::logic_error("Haar cell sums of another level");
+    auto& sums = s.sums[std::size_t(store)];
+    for (std::size_t k = 0; k < base->cells.size(); ++k) {
+      Rgb& v = sums[base->cells[k]];
+      if (v == Rgb(0.0)) s.touched.push_back(base->cells[k]);
+      v += scale * base->values[k];
+    }
+  }
+  if (lobes.samples.empty()) return;
   // The leaf's frame puts its normal on +z; the upper cells then hold everything it sends.
   assert(std::abs(lobes.normal.z - 1.0) < 1e-9);
-  const int store = std::clamp(o.maxLevel, 0, 8);
-  Scratch& s = scratch();
-  s.prepare(store);
   const Plan plan = makePlan(lobes.exponent, store);
   const PhongPower power(lobes.exponent);
   Integrator in(plan, power, s);
   for (const LobeSample& l : lobes.samples) in.lobe(l);
   evaluations += in.evaluations();
+}
+
+}  // namespace
+
+HaarCellSums integrateLobesHaar(const LobeSet& lobes, int level, std::uint64_t& evaluations, const HaarCellSums* base,
+                                double scale) {
+  const int store = std::clamp(level, 0, 8);
+  Scratch& s = scratch();
+  deposit(s, lobes, store, evaluations, base, scale);
+  HaarCellSums out;
+  out.level = store;
+  out.cells.reserve(s.touched.size());
+  out.values.reserve(s.touched.size());
+  auto& sums = s.sums[std::size_t(store)];
+  for (std::uint64_t c : s.touched) {
+    out.cells.push_back(std::uint32_t(c));
+    out.values.push_back(sums[c]);
+    sums[c] = Rgb(0.0);
+  }
+  s.touched.clear();
+  return out;
+}
+
+HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations,
+                                  const HaarCellSums* base, double scale) {
+  const int store = std::clamp(o.maxLevel, 0, 8);
+  Scratch& s = scratch();
+  deposit(s, lobes, store, evaluations, base, scale);
   // Coarser levels: sums of their children, in the (deterministic) order the cells were touched.
   for (std::uint64_t c : s.touched)
     for (int l = store - 1; l >= 0; --l) s.sums[std::size_t(l)][c >> (2 * (store - l))] += s.sums[std::size_t(store)][c];

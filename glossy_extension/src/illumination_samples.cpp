@@ -96,6 +96,8 @@ void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {
   dirtyElements_.resize(elements, 0);
   dirtyClusters_.resize(clusters, 0);
   change_.resize(elements, Rgb(0.0));
+  layers_.resize(elements);
+  layerFrom_.resize(elements, hr::kNone);
 }
 
 void IlluminationSamples::chooseBases(const hr::HostView& view) {
@@ -216,10 +218,52 @@ void IlluminationSamples::gather(hr::NodeId, std::span<const hr::IncidentSample>
   Counters::add(counters_->gatherCalls, 1);
 }
 
+bool IlluminationSamples::reflectShared(hr::NodeId element, std::span<const hr::IncidentSample> samples) {
+  if (element.isCluster() || !view_ || element.index() >= layers_.size()) return false;
+  const std::uint32_t e = element.index(), from = layerFrom_[e];
+  const hr::NodeInfo info = view_->info(element);
+  auto children = view_->children(element);
+  // Layers hold Haar cell sums in the element's plane: every leaf below must lie in that plane.
+  bool fits = info.planar && !info.leaf && info.material < view_->materialCount() && usableNormal(info.normal) &&
+              materialBasis(info.material) == Basis::Haar && simulates(view_->material(info.material));
+  for (hr::NodeId c : children) fits = fits && !c.isCluster() && view_->info(c).normal == info.normal;
+  if (!fits) {
+    // Declined: the host carries these samples down; what the ancestors took still reaches the leaves.
+    if (from != hr::kNone) throw std::logic_error("reflectShared: a shared layer above an element it cannot take");
+    for (hr::NodeId c : children)
+      if (!c.isCluster() && c.index() < layerFrom_.size()) layerFrom_[c.index()] = hr::kNone;
+    return false;
+  }
+  const hr::MaterialInfo m = view_->material(info.material);
+  ReflectCounts rc;
+  // Per unit area: each leaf scales the sums by its own area, as its own samples' lobes are.
+  LobeSet lobes = makeLobes(samples, Frame::around(info.normal), info.normal, 1.0, m.specular, m.exponent,
+                            mergeAngle(m.exponent), rc);
+  std::uint32_t reach = from;
+  if (!lobes.samples.empty()) {
+    const HaarCellSums* above = from != hr::kNone ? layers_[from].get() : nullptr;
+    layers_[e] = std::make_unique<HaarCellSums>(integrateLobes(lobes, materialLevel(info.material), rc, above));
+    reach = e;
+  }
+  for (hr::NodeId c : children) layerFrom_[c.index()] = reach;
+  Counters::add(counters_->samplesReceived, rc.received);
+  Counters::add(counters_->samplesKept, rc.kept);
+  Counters::add(counters_->samplesDropped, rc.dropped);
+  Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
+  Counters::add(counters_->lobesFromMemo, rc.lobesFromMemo);
+  Counters::add(counters_->lobesIntegrated, rc.lobesIntegrated);
+  Counters::add(counters_->sharedLayers, 1);
+  return true;
+}
+
 std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(hr::NodeId leaf,
-                                                                             std::span<const hr::IncidentSample> samples) {
+                                                                             std::span<const hr::IncidentSample> samples,
+                                                                             bool shared) {
   hr::NodeInfo info = view_->info(leaf);
   if (info.material >= view_->materialCount() || !usableNormal(info.normal) || !(info.area > 0.0)) return nullptr;
+  // What the ancestors reflected for every leaf below them (reflectShared), per unit area.
+  const std::uint32_t from = shared && leaf.index() < layerFrom_.size() ? layerFrom_[leaf.index()] : hr::kNone;
+  const HaarCellSums* base = from != hr::kNone ? layers_[from].get() : nullptr;
   hr::MaterialInfo m = view_->material(info.material);
   auto l = std::make_unique<NodeLight>();
   l->normal = info.normal;
@@ -231,8 +275,8 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   double n = representableExponent(spec, m.exponent);
   LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc);
   std::unique_ptr<NodeLight> out;
-  if (simulates(m) && !lobes.samples.empty()) {
-    l->dist = projectLobes(lobes, spec, rc);
+  if (simulates(m) && (!lobes.samples.empty() || base)) {
+    l->dist = projectLobes(lobes, spec, rc, base, info.area);
     finish(*l);
     out = std::move(l);
   }
@@ -250,7 +294,7 @@ void IlluminationSamples::reflect(hr::NodeId leaf, std::span<const hr::IncidentS
   auto* s = slot(leaf);
   if (!s || leaf.isCluster() || !view_) return;
   Rgb before = *s ? (*s)->power : Rgb(0.0);
-  *s = reflected(leaf, samples);  // null: no light on the front of the surface, nothing to hold
+  *s = reflected(leaf, samples, true);  // null: no light on the front of the surface, nothing to hold
   touch(leaf);
   change_[leaf.index()] = glm::abs((*s ? (*s)->power : Rgb(0.0)) - before);
   Counters::raise(counters_->samplesPeak, samples.size());
@@ -352,6 +396,8 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
 
 void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> children) {
   std::uint64_t t0 = threadCpuNs();
+  // Its subtree has been reflected: the layer it shared with its leaves is done with.
+  if (!node.isCluster() && node.index() < layers_.size()) layers_[node.index()].reset();
   auto* s = slot(node);
   auto* u = slot(unshotElements_, unshotClusters_, node);
   if (!s || !u || !view_) return;
@@ -444,6 +490,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"brdf_evaluations", v(c.brdfEvaluations)},
       {"lobes_integrated", v(c.lobesIntegrated)},
       {"lobes_from_memo", v(c.lobesFromMemo)},
+      {"reflect_shared_layers", v(c.sharedLayers)},
       {"gather_calls", v(c.gatherCalls)},
       {"reflect_leaf_visits", v(c.reflectCalls)},
       {"pull_node_visits", v(c.pullCalls)},

@@ -13,7 +13,7 @@ struct IlluminationSamples::Counters {
   std::atomic<std::uint64_t> gatherCalls{0}, reflectCalls{0}, pullCalls{0};
   std::atomic<std::uint64_t> samplesReceived{0}, samplesKept{0}, samplesDropped{0}, samplesPeak{0};
   std::atomic<std::uint64_t> brdfEvaluations{0}, pullCells{0}, pullClips{0};
-  std::atomic<std::uint64_t> lobesFromMemo{0}, lobesIntegrated{0};
+  std::atomic<std::uint64_t> lobesFromMemo{0}, lobesIntegrated{0}, sharedLayers{0};
   std::atomic<std::uint64_t> reflectCpuNs{0}, pullCpuNs{0};
 
   static void raise(std::atomic<std::uint64_t>& a, std::uint64_t v) {

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace glossy {
@@ -179,17 +180,34 @@ AnyDistribution zeroDistribution(const BasisSpec& b) {
   }
 }
 
-AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCounts& counts) {
+namespace {
+
+/// Runs f (a Haar integration) and adds its lobe evaluations and memo hits and misses to counts.
+template <class F>
+auto countedHaar(const LobeSet& lobes, ReflectCounts& counts, F&& f) {
+  const LobeCache& memo = lobeCache();
+  const std::uint64_t hits = memo.hits, misses = memo.misses;
+  lobes.evaluations = 0;
+  auto out = f(lobes.evaluations);
+  counts.lobesFromMemo += memo.hits - hits;
+  counts.lobesIntegrated += memo.misses - misses;
+  counts.brdfEvaluations += lobes.evaluations;
+  return out;
+}
+
+}  // namespace
+
+AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCounts& counts, const HaarCellSums* base,
+                             double scale) {
+  if (b.basis == Basis::Haar) {
+    if (lobes.samples.empty() && (!base || base->cells.empty())) return zeroDistribution(b);
+    return countedHaar(lobes, counts, [&](std::uint64_t& e) { return projectLobesHaar(lobes, b.haar, e, base, scale); });
+  }
+  if (base) throw std::logic_error("reflection layers are Haar cell sums");
   if (lobes.samples.empty()) return zeroDistribution(b);
   AnyDistribution out;
   lobes.evaluations = 0;
-  if (b.basis == Basis::Haar) {
-    const LobeCache& memo = lobeCache();
-    const std::uint64_t hits = memo.hits, misses = memo.misses;
-    out = projectLobesHaar(lobes, b.haar, lobes.evaluations);
-    counts.lobesFromMemo += memo.hits - hits;
-    counts.lobesIntegrated += memo.misses - misses;
-  } else if (b.basis == Basis::Tetra) {
+  if (b.basis == Basis::Tetra) {
     out = TetraDistribution::project(lobes, b.tetraLevel);
   } else {
     // Gauss-Legendre nodes enough for a lobe limited to the order (representableExponent).
@@ -197,6 +215,10 @@ AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCo
   }
   counts.brdfEvaluations += lobes.evaluations;
   return out;
+}
+
+HaarCellSums integrateLobes(const LobeSet& lobes, int level, ReflectCounts& counts, const HaarCellSums* base) {
+  return countedHaar(lobes, counts, [&](std::uint64_t& e) { return integrateLobesHaar(lobes, level, e, base, 1.0); });
 }
 
 }  // namespace glossy

@@ -141,3 +141,71 @@ TEST(MergeGrid, FindsTheGroupsAScanOfAllGroupsFinds) {
 }
 
 }  // namespace
+
+namespace {
+
+using testhost::NodeId;
+
+/// Directions spread over the hemisphere on a spiral, far enough apart that none merge.
+std::vector<hr::IncidentSample> spiralSamples(int first, int count) {
+  std::vector<hr::IncidentSample> out;
+  for (int k = first; k < first + count; ++k) {
+    const double t = (k + 0.5) / 48.0;  // 48 directions in all, at least ~15 degrees apart
+    out.push_back(testhost::sample(testhost::around(Vec3(0, 0, 1), std::acos(1.0 - 0.97 * t), 2.4 * k),
+                                   Rgb(0.3 + 0.1 * (k % 5), 0.2 + 0.05 * (k % 7), 0.4)));
+  }
+  return out;
+}
+
+TEST(ReflectShared, LeavesGetWhatTheirWholeSampleListsWouldGive) {
+  // The floor (1 m^2) split into four, its first quarter split again. Reflected in layers (the floor's
+  // samples once, the quarter's once, each leaf's own) and reflected whole (every leaf all of its and
+  // its ancestors' samples), each leaf's power and its intensity in 200 directions agree to rounding.
+  testhost::Scene layered(300.0), whole(300.0);
+  std::vector<NodeId> deep = layered.host.split(layered.floorLeaves[0]);
+  whole.host.split(whole.floorLeaves[0]);
+  auto a = testhost::configured(), b = testhost::configured();
+  a->attach(layered.host);
+  b->attach(whole.host);
+  const auto top = spiralSamples(0, 16), mid = spiralSamples(16, 8);
+  ASSERT_TRUE(a->reflectShared(layered.floor, top));
+  ASSERT_TRUE(a->reflectShared(layered.floorLeaves[0], mid));
+  std::vector<std::pair<NodeId, std::vector<hr::IncidentSample>>> leaves;  // each leaf and its own samples
+  for (std::size_t k = 0; k < deep.size(); ++k) leaves.push_back({deep[k], spiralSamples(24 + int(k), 1)});
+  for (std::size_t k = 1; k < 4; ++k) leaves.push_back({layered.floorLeaves[k], spiralSamples(28 + 2 * int(k), 2)});
+  for (const auto& [leaf, own] : leaves) {
+    a->reflect(leaf, own);
+    std::vector<hr::IncidentSample> all = top;
+    if (leaf.index() >= deep.front().index()) all.insert(all.end(), mid.begin(), mid.end());
+    all.insert(all.end(), own.begin(), own.end());
+    b->reflect(leaf, all);
+  }
+  for (const auto& [leaf, own] : leaves) {
+    const auto *la = a->light(leaf), *lb = b->light(leaf);
+    ASSERT_TRUE(la && lb);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(la->power[c], lb->power[c], 1e-9 * lb->power[c]) << "leaf " << leaf.index();
+    double worst = 0.0;
+    for (int k = 0; k < 200; ++k) {
+      Vec3 d = testhost::around(Vec3(0, 0, 1), std::acos(1.0 - (k + 0.5) / 200.0), 2.4 * k);
+      const Rgb ia = a->intensity(leaf, d), ib = b->intensity(leaf, d);
+      worst = std::max(worst, hr::maxComponent(glm::abs(ia - ib)) / std::max(1e-12, hr::maxComponent(lb->peak)));
+    }
+    EXPECT_LT(worst, 1e-5) << "leaf " << leaf.index();  // float cells
+  }
+  for (const auto& e : a->stats()) {
+    if (e.name == "samples_merged_away") {
+      EXPECT_EQ(e.value, 0.0);
+    }
+  }
+  // A pull ends its element's layer: a leaf reflected again afterwards (a sweep whose host took no
+  // layer) holds only what its own samples give.
+  a->pull(layered.floorLeaves[0], deep);
+  a->pull(layered.floor, layered.floorLeaves);
+  auto c = testhost::configured();
+  c->attach(whole.host);
+  a->reflect(leaves.front().first, leaves.front().second);
+  c->reflect(leaves.front().first, leaves.front().second);
+  EXPECT_EQ(a->light(leaves.front().first)->power, c->light(leaves.front().first)->power);
+}
+
+}  // namespace

@@ -233,10 +233,13 @@ class PushPull {
     const Element& el = s_.h.element(e);
     // Shooting: the pass's irradiance adds to what arrived before.
     s_.Et[e] = shoot_ ? s_.Et[e] + total : total;
-    const std::size_t mark = samples ? samples->size() : 0;
+    std::size_t mark = samples ? samples->size() : 0;
     if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
         if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
+    // Gathering: an inner element offers what reached it to the extension, which may reflect it once
+    // for every leaf below (Extension::reflectShared); taken samples are not carried further down.
+    if (samples && carry_ && !shoot_ && !el.leaf() && s_.ext->reflectShared(NodeId{e}, *samples)) samples->clear(), mark = 0;
     Pulled result;
     if (el.leaf()) {
       if (shoot_) {

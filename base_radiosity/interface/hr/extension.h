@@ -102,8 +102,15 @@ class Extension {
 
   // Reflection: during the host's push, concurrent across leaves.
   /// Every simulated leaf every iteration, with all its samples (its own and its ancestors', on its
-  /// plane; possibly none): its light replaces the previous iteration's.
+  /// plane; possibly none) but those an ancestor's reflectShared took: its light replaces the
+  /// previous iteration's.
   virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
+  /// Optional, gathering: an inner element of a simulated planar subtree with the samples that reached
+  /// it there (its own links', and at the top of a surface those of the clusters above), before its
+  /// children. Reflection is linear and every leaf below receives these samples alike, so an extension
+  /// may reflect them once for the subtree: true means it took them, and the host does not carry them
+  /// down. Top-down, concurrent across disjoint subtrees; the default takes nothing.
+  virtual bool reflectShared(NodeId /*element*/, std::span<const IncidentSample>) { return false; }
 
   // Push/pull: children before parents, concurrent across disjoint subtrees.
   /// An inner element or cluster above simulated leaves: its exitant light (total, and unshot while

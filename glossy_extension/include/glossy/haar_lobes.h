@@ -23,11 +23,18 @@
 #include <glossy/reflection.h>
 
 #include <cstdint>
+#include <vector>
 
 namespace glossy {
 
-/// The lobes (in a planar leaf's frame: normal +z) projected with the options; adds the lobe
-/// evaluations (one BRDF evaluation each) to `evaluations`.
-HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations);
+/// base * scale (when given, at this level) plus the lobes' integrals over the cells of `level`; adds
+/// the lobe evaluations to `evaluations`.
+HaarCellSums integrateLobesHaar(const LobeSet& lobes, int level, std::uint64_t& evaluations,
+                                const HaarCellSums* base = nullptr, double scale = 1.0);
+
+/// The lobes (in a planar leaf's frame: normal +z), and base * scale when given (at o.maxLevel),
+/// projected with the options; adds the lobe evaluations (one BRDF evaluation each) to `evaluations`.
+HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations,
+                                  const HaarCellSums* base = nullptr, double scale = 1.0);
 
 }  // namespace glossy

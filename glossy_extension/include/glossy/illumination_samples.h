@@ -20,6 +20,7 @@
 #include <glossy/basis_rule.h>
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
+#include <glossy/reflection.h>
 #include <hr/extension.h>
 
 #include <atomic>
@@ -49,6 +50,7 @@ class IlluminationSamples : public hr::Extension {
 
   void gather(hr::NodeId receiver, std::span<const hr::IncidentSample> samples) override;
   void reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override;
+  bool reflectShared(hr::NodeId element, std::span<const hr::IncidentSample> samples) override;
   void pull(hr::NodeId node, std::span<const hr::NodeId> children) override;
   double powerChange() const override;
 
@@ -123,8 +125,10 @@ class IlluminationSamples : public hr::Extension {
   /// Sizes every per-node table (they only grow).
   virtual void resize(std::size_t elements, std::size_t clusters);
   /// A leaf's reflection of some samples as a light of its own (frame, area, normal), or nullptr when
-  /// they bring no light to its front; counts what it did.
-  std::unique_ptr<NodeLight> reflected(hr::NodeId leaf, std::span<const hr::IncidentSample> samples);
+  /// they bring no light to its front; counts what it did. With `shared`, the reflection its
+  /// ancestors took for it (reflectShared) joins its own samples'.
+  std::unique_ptr<NodeLight> reflected(hr::NodeId leaf, std::span<const hr::IncidentSample> samples,
+                                       bool shared = false);
   /// The sum of lights as `node`'s light (its frame, or the world frame for a cluster whose parts
   /// disagree), or nullptr when every part is null.
   std::unique_ptr<NodeLight> sum(hr::NodeId node, std::span<const NodeLight* const> parts) const;
@@ -144,6 +148,11 @@ class IlluminationSamples : public hr::Extension {
   Table unshotElements_, unshotClusters_;     // shooting only
   std::vector<std::uint8_t> dirtyElements_, dirtyClusters_;  // changed since the parent's last pull
   std::vector<Rgb> change_;  // per element, W: |power change| of the latest reflect (leaves)
+  // Reflection in layers (reflectShared): per inner element that took its samples this sweep, the cell
+  // sums per unit area of its own and its ancestors' shared samples (freed by its pull); per element,
+  // the element whose sums reach it from above, or hr::kNone.
+  std::vector<std::unique_ptr<HaarCellSums>> layers_;
+  std::vector<std::uint32_t> layerFrom_;
   std::unique_ptr<Counters> counters_;
   double peakHeld_ = 0.0;
   int finestLevel_;  // the given --dir-max-level, else the lobe rule's finest; no material's level exceeds it

@@ -43,6 +43,15 @@ struct LobeSet {
   Rgb operator()(const Vec3& w) const;
 };
 
+/// Integrals (W) of a sum of lobes over the upper Haar cells of one level that it reaches, in the
+/// order they were first reached: a reflection before its tree is cut, shared by the leaves below an
+/// element (reflection is linear in the samples; docs/glossy.md, "Reflection in layers").
+struct HaarCellSums {
+  int level = 0;
+  std::vector<std::uint32_t> cells;
+  std::vector<Rgb> values;
+};
+
 /// The widest angular bin (radians) in which samples are merged, for a lobe of this exponent: 1/16
 /// of its 1 % half-width.
 double mergeAngle(double exponent);
@@ -58,8 +67,14 @@ double representableExponent(const BasisSpec& b, double exponent);
 LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& frame, const Vec3& worldNormal,
                   double area, const Rgb& specular, double exponent, double merge, ReflectCounts& counts);
 
-/// Projects the lobes into the basis (see the file comment); counts lobe evaluations.
-AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCounts& counts);
+/// Projects the lobes into the basis (see the file comment); counts lobe evaluations. Haar only: with
+/// base * scale added (cell sums at the stored level, integrateLobes).
+AnyDistribution projectLobes(const LobeSet& lobes, const BasisSpec& b, ReflectCounts& counts,
+                             const HaarCellSums* base = nullptr, double scale = 1.0);
+
+/// base (when given) plus the lobes' integrals over the Haar cells of `level`, not yet cut into a tree:
+/// the reflection of samples shared by every leaf below an element.
+HaarCellSums integrateLobes(const LobeSet& lobes, int level, ReflectCounts& counts, const HaarCellSums* base = nullptr);
 
 /// The zero distribution of a basis.
 AnyDistribution zeroDistribution(const BasisSpec& b);
