@@ -246,12 +246,7 @@ bool IlluminationSamples::reflectShared(hr::NodeId element, std::span<const hr::
     reach = e;
   }
   for (hr::NodeId c : children) layerFrom_[c.index()] = reach;
-  Counters::add(counters_->samplesReceived, rc.received);
-  Counters::add(counters_->samplesKept, rc.kept);
-  Counters::add(counters_->samplesDropped, rc.dropped);
-  Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
-  Counters::add(counters_->lobesFromMemo, rc.lobesFromMemo);
-  Counters::add(counters_->lobesIntegrated, rc.lobesIntegrated);
+  counters_->add(rc);
   Counters::add(counters_->sharedLayers, 1);
   return true;
 }
@@ -280,12 +275,7 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
     finish(*l);
     out = std::move(l);
   }
-  Counters::add(counters_->samplesReceived, rc.received);
-  Counters::add(counters_->samplesKept, rc.kept);
-  Counters::add(counters_->samplesDropped, rc.dropped);
-  Counters::add(counters_->brdfEvaluations, rc.brdfEvaluations);
-  Counters::add(counters_->lobesFromMemo, rc.lobesFromMemo);
-  Counters::add(counters_->lobesIntegrated, rc.lobesIntegrated);
+  counters_->add(rc);
   return out;
 }
 

@@ -2,6 +2,7 @@
 // (only their totals matter, and totals do not depend on the order of the updates).
 #pragma once
 #include <glossy/illumination_samples.h>
+#include <glossy/reflection.h>
 
 #include <atomic>
 #include <cstdint>
@@ -22,6 +23,15 @@ struct IlluminationSamples::Counters {
     }
   }
   static void add(std::atomic<std::uint64_t>& a, std::uint64_t v) { a.fetch_add(v, std::memory_order_relaxed); }
+  /// What one reflection (or one layer of it) did.
+  void add(const ReflectCounts& rc) {
+    add(samplesReceived, rc.received);
+    add(samplesKept, rc.kept);
+    add(samplesDropped, rc.dropped);
+    add(brdfEvaluations, rc.brdfEvaluations);
+    add(lobesFromMemo, rc.lobesFromMemo);
+    add(lobesIntegrated, rc.lobesIntegrated);
+  }
 };
 
 /// CPU time of the calling thread, ns: summed over threads it is the work a phase cost.
