@@ -63,8 +63,10 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
                         "wider, within 3-5 (n = 60 -> 3, 300 -> 4, 500 -> 5; docs/glossy.md)"},
       {"tetra-level", "tetra: subdivision level of the tetrahedron (0-8, default 3)"},
       {"sh-order", "sh: spherical harmonics order, bands 0 to order-1 (1-32, default 8)"},
-      {"reflection-refine", "on (default) or off: the host's oracle splits a glossy receiver, or its sender, seen from "
-                            "directions further apart than the receiver's lobe (docs/glossy.md)"},
+      {"reflection-refine", "on (default), cell or off: the host's oracle splits a glossy receiver, or its sender, seen "
+                            "from directions further apart than the receiver's lobe; cell: than the lobe or the "
+                            "material's Haar cell, whichever is wider (fewer links, a blurrier near reflection; "
+                            "docs/glossy.md)"},
   };
 }
 
@@ -111,13 +113,15 @@ BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values) {
   return b;
 }
 
-bool parseReflectionRefine(const std::vector<hr::OptionValue>& values) {
+ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& values) {
   for (const auto& v : values)
     if (v.name == "reflection-refine") {
-      if (v.value != "on" && v.value != "off") fail(v.name, "must be on or off, got '" + v.value + "'");
-      return v.value == "on";
+      if (v.value == "on") return ReflectionRefine::Lobe;
+      if (v.value == "cell") return ReflectionRefine::Cell;
+      if (v.value == "off") return ReflectionRefine::Off;
+      fail(v.name, "must be on, cell or off, got '" + v.value + "'");
     }
-  return true;
+  return ReflectionRefine::Lobe;
 }
 
 void validateIsBasis(const BasisSpec& b, const std::string& context) {

@@ -39,6 +39,15 @@ TEST(IsOptions, ReflectorGivesTheLobesWidthUnlessTurnedOff) {
   EXPECT_EQ(on->reflector(diffuseMat).albedo, 0.0);
   auto off = testhost::configured({{"reflection-refine", "off"}});
   EXPECT_EQ(off->reflector(glossyMat).albedo, 0.0);
+  // cell: the wider of the lobe and the material's Haar cell, pi/2 / 2^level. n = 300 gets level 4
+  // (5.6 degrees, wider than its 4.7-degree lobe); at a given level 8 the lobe is the wider.
+  auto cell = testhost::configured({{"reflection-refine", "cell"}});
+  EXPECT_NEAR(cell->reflector(glossyMat).width, 0.5 * M_PI / 16.0, 1e-12);
+  EXPECT_NEAR(cell->reflector(glossyMat).albedo, 0.6, 1e-9);
+  auto fine = testhost::configured({{"reflection-refine", "cell"}, {"dir-max-level", "8"}});
+  EXPECT_NEAR(fine->reflector(glossyMat).width, std::sqrt(2.0 / 300.0), 1e-12);
+  auto tetra = testhost::configured({{"reflection-refine", "cell"}, {"basis", "tetra"}});
+  EXPECT_NEAR(tetra->reflector(glossyMat).width, std::sqrt(2.0 / 300.0), 1e-12);
 }
 
 TEST(IsOptions, AcceptedValues) {
@@ -104,7 +113,7 @@ TEST(IsOptions, RefusedValuesNameTheOption) {
       {{{"basis", "sh"}, {"sh-order", "0"}}, "--sh-order: must be an integer from 1 to 32, got '0'"},
       {{{"basis", "sh"}, {"sh-order", "33"}}, "--sh-order: must be an integer from 1 to 32, got '33'"},
       {{{"dir-eps", "0.1"}, {"dir-eps", "0.2"}}, "--dir-eps: given twice"},
-      {{{"reflection-refine", "yes"}}, "--reflection-refine: must be on or off, got 'yes'"},
+      {{{"reflection-refine", "yes"}}, "--reflection-refine: must be on, cell or off, got 'yes'"},
       {{{"reflection-refine", "on"}, {"reflection-refine", "off"}}, "--reflection-refine: given twice"},
       {{{"eps", "0.1"}},
        "--eps: not an option of --algorithm is (valid: basis, dir-eps, dir-min-level, dir-max-level, tetra-level, sh-order, "

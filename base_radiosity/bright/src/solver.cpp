@@ -22,6 +22,14 @@ namespace hr {
 
 /// Consecutive growing residuals above the emitted power after which a solve is declared diverging.
 constexpr int kDivergingIterations = 3;
+/// A pass whose refinement split at most this fraction of the links, and whose sweeps then reached
+/// the tolerance, ends the solve: the light is settled to the tolerance on the links it has, and the
+/// oracle is met by all but a few links whose estimates crossed the threshold only as the light
+/// settled in its last digits (Jacobi light grows toward the answer, so links near the threshold
+/// cross it one by one: the simple Soda Shoppe split 51, 33, 15, 7, 7, 2, 1 of 1.56 M links in its
+/// last seven passes, each a full glossy sweep, 30 % of the solve; stopping at the first such pass
+/// took it from 161 to 122 s, its image within 2.1e-5 relative RMSE of the fully settled one).
+constexpr double kSettledSplitFraction = 1e-4;
 
 using detail::Link;
 using detail::SolverState;
@@ -114,8 +122,9 @@ struct Solver::Impl {
     rhoMean /= std::max(totalArea, 1e-300);
     // Each pass refines the links, then sweeps over them (gather + push/pull) until the residual
     // is below the tolerance: with acceleration (convergence.cpp) refinement, the costly part, runs
-    // a few times instead of once per sweep. Converged when a pass splits nothing and its sweeps
-    // reach the tolerance. With an extension attached every pass sweeps once (plain Jacobi).
+    // a few times instead of once per sweep. Converged when a pass splits (almost) nothing
+    // (kSettledSplitFraction) and its sweeps reach the tolerance. With an extension attached every
+    // pass sweeps once (plain Jacobi).
     // Shooting passes are in shoot.cpp.
     detail::Accelerator acc(s, s.opt.acceleration);
     const double target = s.opt.tolerance * s.emittedPower;
@@ -174,7 +183,8 @@ struct Solver::Impl {
                       double(s.opt.memoryBudgetBytes) / 1048576.0, budget.frozen() ? "; refinement stops here" : "");
         progress->note(buf);
       }
-      if (refined == 0 && res <= target && finest && !budget.directionsSteppedBack()) {
+      const bool settled = double(refined) <= kSettledSplitFraction * double(s.links.size());
+      if (settled && res <= target && finest && !budget.directionsSteppedBack()) {
         st.converged = true;
         break;
       }

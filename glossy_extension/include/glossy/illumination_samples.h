@@ -20,6 +20,7 @@
 #include <glossy/basis_rule.h>
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
+#include <glossy/is_options.h>
 #include <glossy/reflection.h>
 #include <hr/extension.h>
 
@@ -159,7 +160,7 @@ class IlluminationSamples : public hr::Extension {
   int budgetLevels_ = -1;  // the memory budget's levels above dir-min-level (limitDirectionalLevels), -1: none
   std::vector<int> materialLevel_;  // per material of the view, -1 for one not simulated
   int pullFloor_ = 3;  // the coarsest Haar material's level: sums are never projected coarser
-  bool refineReflections_ = true;  // --reflection-refine: the Reflector the host's oracle reads (else none)
+  ReflectionRefine refineReflections_ = ReflectionRefine::Lobe;  // --reflection-refine: what reflector() reports
 };
 
 }  // namespace glossy

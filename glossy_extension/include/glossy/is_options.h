@@ -21,9 +21,13 @@ std::vector<hr::OptionSpec> isOptionSpecs();
 /// Parses the options given (names without dashes); throws hr::InputError naming the option.
 BasisSpec parseIsOptions(const std::vector<hr::OptionValue>& values);
 
-/// Whether --reflection-refine is on (the default); throws hr::InputError for a value not on/off.
-/// parseIsOptions has checked the names and that none is given twice.
-bool parseReflectionRefine(const std::vector<hr::OptionValue>& values);
+/// What the host's oracle is told of a glossy receiver's sharpness (--reflection-refine): nothing (off),
+/// its lobe's width (on, the default), or the wider of the lobe and its Haar cell (cell).
+enum class ReflectionRefine { Off, Lobe, Cell };
+
+/// --reflection-refine; throws hr::InputError for a value not on/cell/off. parseIsOptions has checked
+/// the names and that none is given twice.
+ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& values);
 
 /// Checks a basis as a solution file states it; throws hr::InputError prefixed by `context`.
 void validateIsBasis(const BasisSpec& b, const std::string& context);
