@@ -12,9 +12,9 @@
 // non-adaptive tetrahedron basis against the adaptive Haar basis at (max) levels 3 and 4:
 // distributions, coefficients (the paper's "triangles"), time, and the glossy floor's image error
 // against a path-traced reference of the same camera.
-//   bench_tables [SOURCE_DIR] [--quick | --table1 | --simple-soda]   (--quick: the first three-lights
-//   row only, no Table 1; --table1: Table 1 alone; --simple-soda: the simple Soda Shoppe's row alone,
-//   its longest, to be run apart)
+//   bench_tables [SOURCE_DIR] [--quick | --table1 | --simple-soda | --without-soda]   (--quick: the
+//   first three-lights row only, no Table 1; --table1: Table 1 alone; --simple-soda: the simple Soda
+//   Shoppe's row alone, its longest, to be run apart; --without-soda: every other row, no Table 1)
 #include <hr/output.h>
 #include <hr/solver.h>
 #include <ref/compare.h>
@@ -140,14 +140,16 @@ void table1(const std::string& src, const std::filesystem::path& dir) {
 int main(int argc, char** argv) {
   std::string src = GHR_SOURCE_DIR;
   bool quick = false;
-  bench::sourceAndQuick(argc, argv, src, quick, {"--table1", "--simple-soda"});
-  bool onlyTable1 = false, onlySoda = false;
+  bench::sourceAndQuick(argc, argv, src, quick, {"--table1", "--simple-soda", "--without-soda"});
+  bool onlyTable1 = false, onlySoda = false, noSoda = false;
   for (int i = 1; i < argc; ++i) {
     onlyTable1 = onlyTable1 || std::strcmp(argv[i], "--table1") == 0;
     onlySoda = onlySoda || std::strcmp(argv[i], "--simple-soda") == 0;
+    noSoda = noSoda || std::strcmp(argv[i], "--without-soda") == 0;
   }
-  if (int(quick) + int(onlyTable1) + int(onlySoda) > 1) {
-    std::fprintf(stderr, "%s: --quick, --table1 and --simple-soda each choose what runs; give one\n", argv[0]);
+  if (int(quick) + int(onlyTable1) + int(onlySoda) + int(noSoda) > 1) {
+    std::fprintf(stderr, "%s: --quick, --table1, --simple-soda and --without-soda each choose what runs; give one\n",
+                 argv[0]);
     return 2;
   }
   std::vector<Setting> settings = {{"three_lights", "0.5", "1", "3"},
@@ -159,6 +161,7 @@ int main(int argc, char** argv) {
   if (quick) settings.resize(1);
   if (onlyTable1) settings.clear();
   if (onlySoda) settings.erase(settings.begin(), settings.end() - 1);
+  if (noSoda) settings.pop_back();
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("bench_tables_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   auto image = [&](std::size_t k, const char* what) { return (dir / (std::to_string(k) + what + ".exr")).string(); };
@@ -198,7 +201,7 @@ int main(int argc, char** argv) {
                 set.minLevel, set.maxLevel, g.seconds, sh.seconds, 100 * g.pushPullShare, 100 * sh.pushPullShare,
                 g.samplesPeak, sh.samplesPeak, imageDifference(src, set, image(k, "shoot"), image(k, "is")));
   }
-  if (!quick && !onlySoda) table1(src, dir);
+  if (!quick && !onlySoda && !noSoda) table1(src, dir);
   std::filesystem::remove_all(dir);
   return 0;
 }
