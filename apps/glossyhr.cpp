@@ -130,7 +130,7 @@ int runSolve(const SolveArgs& a) {
     hr::setSection(sol, "display", "flat");
     hr::reconstruct(sol);
   }
-  if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), ext->save()};
+  if (ext) sol.extension = {std::string(ext->name()), ext->formatVersion(), {}, [&ext](std::ostream& o) { ext->save(o); }};
   for (const auto& e : sol.elements)
     if (!hr::allFinite(e.radiosity)) throw std::runtime_error("non-finite radiosity in the solution");
   hr::RunInfo run;

@@ -14,6 +14,7 @@
 
 #include "helpers.h"
 #include "registry.h"
+#include "saved_bytes.h"
 
 namespace {
 
@@ -169,7 +170,7 @@ TEST(GlossyShooting, OneAndTwoThreadsGiveTheSameBits) {
     auto ext = make("is");
     auto s = testutil::solveText(sceneText("three_lights.json"), o, ext.get());
     radiosity[t] = s.solver->radiosity();
-    saved[t] = ext->save();
+    saved[t] = testutil::savedBytes(*ext);
   }
   ASSERT_EQ(radiosity[0].size(), radiosity[1].size());
   EXPECT_EQ(std::memcmp(radiosity[0].data(), radiosity[1].data(), radiosity[0].size() * sizeof(hr::Rgb)), 0);

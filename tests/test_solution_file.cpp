@@ -37,7 +37,7 @@ TEST(SolutionFile, Crc32MatchesTheStandardCheckValue) {
 TEST(SolutionFile, RoundTripKeepsExtraSections) {
   hr::Solution s = smallSolution();
   hr::setSection(s, "notes", std::string("phong-haar\0\x02\x00\x00\x00opaque", 21));
-  s.extension = {"is", 3, std::string("\0binary\xff", 8)};
+  s.extension = {"is", 3, std::string("\0binary\xff", 8), {}};
   EXPECT_THROW(hr::setSection(s, "patches", "x"), std::logic_error) << "core names are reserved";
   EXPECT_THROW(hr::setSection(s, "extension", "x"), std::logic_error) << "the extension's section is the core's";
   fs::path p = testutil::testDir() / "s.ghrs";
@@ -51,6 +51,39 @@ TEST(SolutionFile, RoundTripKeepsExtraSections) {
   ASSERT_EQ(back.elements.size(), s.elements.size());
   for (std::size_t i = 0; i < s.elements.size(); ++i) ASSERT_EQ(back.elements[i].radiosity, s.elements[i].radiosity);
   EXPECT_EQ(hr::serializeSolution(back), hr::serializeSolution(s)) << "loading and saving again gives the same bytes";
+}
+
+/// The extension's bytes written into the file by a producer (as glossyhr solve saves a glossy run,
+/// without holding them) give the very file that holding them gives; a producer whose bytes change
+/// between its runs is an error, not a file with a wrong header.
+TEST(SolutionFile, AProducedExtensionSectionIsTheHeldOnesFile) {
+  hr::Solution held = smallSolution();
+  std::string payload;
+  for (int i = 0; i < 100000; ++i) payload.push_back(char((i * 7919) % 251));
+  held.extension = {"is", 3, payload, {}};
+  hr::Solution streamed = smallSolution();
+  int runs = 0;
+  streamed.extension = {"is", 3, {}, [&](std::ostream& o) {
+                          ++runs;
+                          // In pieces of several sizes, as a serialiser writes.
+                          for (std::size_t at = 0; at < payload.size();) {
+                            std::size_t n = std::min<std::size_t>(payload.size() - at, 1 + at % 4093);
+                            o.write(payload.data() + at, std::streamsize(n));
+                            at += n;
+                          }
+                        }};
+  const std::string expected = hr::serializeSolution(held);
+  EXPECT_EQ(hr::serializeSolution(streamed), expected);
+  EXPECT_GE(runs, 3) << "sized, checksummed, written";
+  fs::path p = testutil::testDir() / "streamed.ghrs";
+  hr::saveSolution(streamed, p.string());
+  EXPECT_EQ(slurp(p), expected);
+  EXPECT_EQ(hr::loadSolution(p.string()).extension.bytes, payload);
+
+  hr::Solution changing = smallSolution();
+  int calls = 0;
+  changing.extension = {"is", 3, {}, [&](std::ostream& o) { o << std::string(std::size_t(10 + calls++), 'x'); }};
+  EXPECT_THROW(hr::serializeSolution(changing), std::logic_error);
 }
 
 TEST(SolutionFile, ADamagedSectionIsNamed) {

@@ -9,6 +9,7 @@
 #include <hr/solution_view.h>
 
 #include <cstring>
+#include <ostream>
 #include <optional>
 
 namespace adapters::vision {
@@ -124,11 +125,12 @@ class Adapter final : public hr::Extension {
   hr::Rgb radiance(hr::NodeId l, const hr::Vec3& e) const override { return in_->radiance(cell(l), e); }
   std::size_t coefficients(hr::NodeId l) const override { return in_->coefficients(cell(l)); }
   std::uint32_t formatVersion() const override { return in_->formatVersion(); }
-  std::string save() const override {
-    std::string out(8, '\0');
+  void save(std::ostream& out) const override {
+    char bytes[8];
     const std::uint32_t head[2] = {kMagic, H_};
-    for (int k = 0; k < 8; ++k) out[std::size_t(k)] = char((head[k / 4] >> (8 * (k % 4))) & 0xFF);
-    return out + in_->save();
+    for (int k = 0; k < 8; ++k) bytes[k] = char((head[k / 4] >> (8 * (k % 4))) & 0xFF);
+    out.write(bytes, 8);
+    in_->save(out);
   }
   void load(std::string_view bytes, const hr::HostView& cells) override {
     if (bytes.size() < 8) throw hr::InputError(std::string(kWhat) + ": truncated");

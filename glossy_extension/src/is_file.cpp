@@ -43,20 +43,29 @@ class CountingBuffer : public std::streambuf {
   std::uint64_t n_ = 0;
 };
 
-/// Appends what is written to it to a string (reserved by the caller: no regrowth).
-class AppendBuffer : public std::streambuf {
+/// Forwards what is written to it and carries its FNV-1a hash (fnv1a's, byte for byte) and count.
+class HashingBuffer : public std::streambuf {
  public:
-  explicit AppendBuffer(std::string& s) : s_(s) {}
+  explicit HashingBuffer(std::streambuf* next) : next_(next) {}
+  std::uint64_t hash() const { return h_; }
+  std::uint64_t bytes() const { return n_; }
 
  protected:
-  std::streamsize xsputn(const char* p, std::streamsize n) override { return s_.append(p, std::size_t(n)), n; }
+  std::streamsize xsputn(const char* p, std::streamsize n) override {
+    for (std::streamsize i = 0; i < n; ++i) h_ = (h_ ^ static_cast<unsigned char>(p[i])) * 0x100000001b3ull;
+    n_ += std::uint64_t(n);
+    return next_->sputn(p, n);
+  }
   int_type overflow(int_type c) override {
-    if (!traits_type::eq_int_type(c, traits_type::eof())) s_.push_back(traits_type::to_char_type(c));
-    return c;
+    if (traits_type::eq_int_type(c, traits_type::eof())) return c;
+    char ch = traits_type::to_char_type(c);
+    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
   }
 
  private:
-  std::string& s_;
+  std::streambuf* next_;
+  std::uint64_t h_ = 0xcbf29ce484222325ull;
+  std::uint64_t n_ = 0;
 };
 
 /// A read-only stream over bytes the caller keeps: loading a large section read it through a copy.
@@ -133,15 +142,15 @@ void checkHaar(const HaarDistribution& h, int maxLevel) {
 
 }  // namespace
 
-std::string IlluminationSamples::save() const {
+void IlluminationSamples::save(std::ostream& sink) const {
   std::vector<std::uint32_t> leaves;
   for (std::size_t i = 0; i < elements_.size(); ++i)
     if (elements_[i] && isLeaf(i)) leaves.push_back(std::uint32_t(i));
   auto record = [&](std::uint32_t i, std::ostream& out) {
     std::visit([&](const auto& d) { d.serialize(out); }, elements_[i]->dist);
   };
-  // The section is written once into a string of its exact size, counted first: a growing stream
-  // held its old and new buffers at once (1.5x the section, hundreds of megabytes on the Soda Shoppe).
+  // Streamed into the file (the section runs to gigabytes on the Soda Shoppe); each record's size,
+  // which precedes it, is counted first.
   std::vector<std::uint64_t> sizes(leaves.size());
   std::size_t total = 4 * 4 + 8 + 4 * 4 + 8 + 8;  // header, leaf count, checksum
   for (std::size_t k = 0; k < leaves.size(); ++k) {
@@ -151,10 +160,8 @@ std::string IlluminationSamples::save() const {
     sizes[k] = count.bytes();
     total += 4 + 4 + 8 + sizes[k];
   }
-  std::string bytes;
-  bytes.reserve(total);
-  AppendBuffer append(bytes);
-  std::ostream out(&append);
+  HashingBuffer hashing(sink.rdbuf());
+  std::ostream out(&hashing);
   serial::writeU32(out, kMagic);
   serial::writeU32(out, formatVersion());
   serial::writeU32(out, basis_.automatic ? 1u : 0u);
@@ -171,10 +178,10 @@ std::string IlluminationSamples::save() const {
     serial::writeU64(out, sizes[k]);
     record(leaves[k], out);
   }
-  serial::writeU64(out, fnv1a(bytes));
   out.flush();
-  if (bytes.size() != total) throw std::logic_error("solution section: counted and written sizes differ");
-  return bytes;
+  serial::writeU64(sink, hashing.hash());
+  if (hashing.bytes() + 8 != total) throw std::logic_error("solution section: counted and written sizes differ");
+  if (!out || !sink) sink.setstate(std::ios::badbit);
 }
 
 void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view) {

@@ -11,6 +11,7 @@
 
 #include "directions.h"
 #include "fake_host.h"
+#include "../saved_bytes.h"
 
 namespace {
 
@@ -148,14 +149,14 @@ TEST(BasisAuto, AClusterOverTwoBasesKeepsOneExactSumPerBasis) {
 
 TEST(BasisAuto, AMixedSectionRoundTripsBitIdentically) {
   Mixed m;
-  const std::string bytes = m.ext->save();
+  const std::string bytes = testutil::savedBytes(*m.ext);
   testhost::FakeHost saved = m.host.elementsOnly();
   glossy::IlluminationSamples loaded;  // default options: the section states its bases
   loaded.load(bytes, saved);
   EXPECT_TRUE(loaded.basis().automatic);
   EXPECT_EQ(loaded.materialBasis(m.broadMaterial), Basis::Sh);
   EXPECT_EQ(loaded.materialBasis(m.sharpMaterial), Basis::Haar);
-  EXPECT_EQ(loaded.save(), bytes) << "saving again gives the same bytes";
+  EXPECT_EQ(testutil::savedBytes(loaded), bytes) << "saving again gives the same bytes";
   std::mt19937_64 g(9);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (NodeId leaf : saved.simulatedLeaves(loaded)) {

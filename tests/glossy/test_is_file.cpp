@@ -10,6 +10,7 @@
 
 #include "directions.h"
 #include "fake_host.h"
+#include "../saved_bytes.h"
 
 namespace {
 
@@ -60,13 +61,13 @@ std::vector<double> fingerprint(const hr::Extension& ext, const testhost::FakeHo
 TEST(IsFile, RoundTripEvaluatesBitIdentically) {
   for (const char* basis : {"haar", "tetra", "sh"}) {
     Solved s(basis);
-    std::string bytes = s.ext->save();
+    std::string bytes = testutil::savedBytes(*s.ext);
     testhost::FakeHost saved = s.scene.host.elementsOnly();
     glossy::IlluminationSamples loaded;  // default options: the section states its basis
     loaded.load(bytes, saved);
     EXPECT_EQ(loaded.basis().basis, s.ext->basis().basis) << basis;
     EXPECT_EQ(fingerprint(loaded, saved), fingerprint(*s.ext, s.scene.host)) << basis;
-    EXPECT_EQ(loaded.save(), bytes) << basis << ": saving again gives the same bytes";
+    EXPECT_EQ(testutil::savedBytes(loaded), bytes) << basis << ": saving again gives the same bytes";
     std::printf("%-5s section: %zu bytes for %zu glossy leaves\n", basis, bytes.size(), saved.simulatedLeaves(loaded).size());
   }
 }
@@ -76,7 +77,7 @@ TEST(IsFile, DamagedSectionsAreRefused) {
   // bytes. Each refused with InputError; after all of them the loaded solution is unchanged.
   for (const char* basis : {"haar", "tetra", "sh"}) {
     Solved s(basis);
-    const std::string bytes = s.ext->save();
+    const std::string bytes = testutil::savedBytes(*s.ext);
     testhost::FakeHost saved = s.scene.host.elementsOnly();
     glossy::IlluminationSamples ext;
     ext.load(bytes, saved);
@@ -136,7 +137,7 @@ void expectRefusal(glossy::IlluminationSamples& ext, const std::string& bytes, c
 
 TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   Solved s("haar");
-  const std::string bytes = s.ext->save();
+  const std::string bytes = testutil::savedBytes(*s.ext);
   std::string body = bytes.substr(0, bytes.size() - 8);
   testhost::FakeHost saved = s.scene.host.elementsOnly();
   glossy::IlluminationSamples ext;

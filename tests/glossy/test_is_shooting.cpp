@@ -11,6 +11,7 @@
 #include "compare.h"
 #include "directions.h"
 #include "fake_host.h"
+#include "../saved_bytes.h"
 
 namespace {
 
@@ -127,7 +128,7 @@ TEST(IsShooting, CurvedLeafSplitIntoTiltedChildrenSavesAndLoadsInTheirFrames) {
     testhost::FakeHost flat = h.elementsOnly();
     for (NodeId c : kids) flat.node(c).info.planar = true;  // a solution's cells are flat
     glossy::IlluminationSamples loaded;
-    ASSERT_NO_THROW(loaded.load(ext->save(), flat)) << basis;
+    ASSERT_NO_THROW(loaded.load(testutil::savedBytes(*ext), flat)) << basis;
     double brightest = 0.0;
     for (NodeId c : kids)
       for (int k = 0; k < 64; ++k) {

@@ -9,6 +9,7 @@
 
 #include "directions.h"
 #include "fake_host.h"
+#include "../saved_bytes.h"
 
 namespace {
 
@@ -104,12 +105,12 @@ TEST(IsThreads, ConcurrentHooksGiveTheSerialAnswer) {
   Room room;
   for (const char* basis : {"haar", "tetra", "sh"}) {
     auto serial = solve(room, 1, basis);
-    const std::string bytes = serial->save();
+    const std::string bytes = testutil::savedBytes(*serial);
     const auto reference = queries(*serial, room, 1);
     EXPECT_GT(serial->powerChange(), 0.0);
     for (int threads : {2, 4, 7}) {
       auto parallel = solve(room, threads, basis);
-      EXPECT_EQ(parallel->save(), bytes) << basis << ", " << threads << " threads";
+      EXPECT_EQ(testutil::savedBytes(*parallel), bytes) << basis << ", " << threads << " threads";
       EXPECT_EQ(parallel->powerChange(), serial->powerChange()) << basis << ", " << threads << " threads";
       EXPECT_EQ(counters(*parallel), counters(*serial)) << basis << ", " << threads << " threads";
       EXPECT_EQ(queries(*parallel, room, threads), reference) << basis << ", " << threads << " threads";

@@ -17,6 +17,7 @@
 #include "../test_dir.h"
 #include "registry.h"
 #include "vision_helpers.h"
+#include "../saved_bytes.h"
 
 namespace {
 
@@ -72,7 +73,7 @@ TEST(VisionGlossy, OneAndTwoThreadsBitIdentical) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(t));
     auto ext = adapters::findExtension("is").make();
     auto s = visiontest::solveText(json, o, ext.get());
-    bytes[t - 1] = ext->save();  // reads the leaves through the solver's view: s is still alive
+    bytes[t - 1] = testutil::savedBytes(*ext);  // reads the leaves through the solver's view: s is still alive
     st[t - 1] = s.stats;
   }
   EXPECT_GT(bytes[0].size(), 1000u);

@@ -9,6 +9,7 @@
 #pragma once
 #include <hr/host_view.h>
 
+#include <iosfwd>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -160,8 +161,10 @@ class Extension {
   // Solution file and statistics: serial.
   /// Version of what save() writes; a file with another version is refused.
   virtual std::uint32_t formatVersion() const { return 1; }
-  /// The extension's leaf data for the solution file's tagged section (the host adds name and version).
-  virtual std::string save() const { return {}; }
+  /// Writes the extension's leaf data for the solution file's tagged section (the host adds name and
+  /// version) to a stream: the file takes it without a copy. Called more than once per file (sized,
+  /// checksummed, written), so it writes the same bytes each time.
+  virtual void save(std::ostream& /*out*/) const {}
   /// Restores what save() wrote (its own options win over configure's), over the leaves of a loaded
   /// solution; throws InputError when damaged.
   virtual void load(std::string_view /*bytes*/, const HostView&) {}

@@ -3,6 +3,9 @@
 #include <cstring>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
+#include <streambuf>
+#include <string>
 #include <hr/echo.h>
 #include <hr/section_file.h>
 #include <hr/types.h>
@@ -39,7 +42,46 @@ T get(std::string_view b, std::size_t at) {
   return v;
 }
 
+/// Counts the bytes written through it and carries a CRC-32 over them; forwards them to `next` when
+/// given. Unbuffered: the serialisers write in pieces of a few bytes to a few kilobytes.
+class CrcBuffer : public std::streambuf {
+ public:
+  explicit CrcBuffer(std::streambuf* next = nullptr, std::uint32_t crc = 0, bool checksum = true)
+      : next_(next), crc_(crc), checksum_(checksum) {}
+  std::uint64_t count() const { return n_; }
+  std::uint32_t crc() const { return crc_; }
+  bool failed() const { return failed_; }
+
+ protected:
+  std::streamsize xsputn(const char* p, std::streamsize n) override {
+    if (checksum_) crc_ = crc32(std::string_view(p, std::size_t(n)), crc_);
+    n_ += std::uint64_t(n);
+    if (next_ && next_->sputn(p, n) != n) failed_ = true;
+    return n;
+  }
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return c;
+    char ch = traits_type::to_char_type(c);
+    xsputn(&ch, 1);
+    return c;
+  }
+
+ private:
+  std::streambuf* next_;
+  std::uint32_t crc_;
+  bool checksum_;
+  std::uint64_t n_ = 0;
+  bool failed_ = false;
+};
+
 }  // namespace
+
+std::uint64_t producedSize(const std::function<void(std::ostream&)>& produce) {
+  CrcBuffer b(nullptr, 0, false);
+  std::ostream o(&b);
+  produce(o);
+  return b.count();
+}
 
 std::uint32_t crc32(std::string_view bytes, std::uint32_t crc) {
   const auto& t = crcTable();
@@ -74,9 +116,45 @@ void SectionWriter::addPieces(std::string_view name, std::initializer_list<std::
   for (std::string_view p : pieces) chunks_.push_back(p);
 }
 
+void SectionWriter::addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce) {
+  if (name.empty() || name.size() > kMaxName) throw std::logic_error("section name must have 1-64 bytes");
+  const std::uint64_t size = producedSize(produce);
+  Produced p{std::move(produce), size};
+  std::string head;
+  put(head, static_cast<std::uint32_t>(name.size()));
+  head.append(name);
+  put(head, static_cast<std::uint64_t>(prefix.size() + p.size));
+  // The section's CRC runs over the header, the prefix and the produced bytes, in that order.
+  CrcBuffer c(nullptr, crc32(prefix, crc32(head)));
+  std::ostream oc(&c);
+  p.produce(oc);
+  if (c.count() != p.size) throw std::logic_error("a produced section wrote different sizes on two runs");
+  put(head, c.crc());
+  chunks_.push_back(owned_.emplace_back(std::move(head)));
+  chunks_.push_back(owned_.emplace_back(std::move(prefix)));
+  produced_.emplace_back(chunks_.size(), std::move(p));
+  chunks_.emplace_back();
+}
+
 void SectionWriter::write(std::ostream& out) const {
   std::uint32_t crc = 0;
-  for (std::string_view c : chunks_) {
+  auto next = produced_.begin();
+  for (std::size_t i = 0; i < chunks_.size(); ++i) {
+    if (next != produced_.end() && next->first == i) {
+      CrcBuffer through(out.rdbuf(), crc);
+      std::ostream o(&through);
+      next->second.produce(o);
+      if (through.failed()) out.setstate(std::ios::badbit);
+      // Checked against the first run by its size: a section whose size changed would carry a wrong
+      // header (and the section's CRC catches changed bytes when the file is read).
+      if (through.count() != next->second.size)
+        throw std::logic_error("a produced section wrote " + std::to_string(through.count()) + " bytes, then " +
+                               std::to_string(next->second.size));
+      crc = through.crc();
+      ++next;
+      continue;
+    }
+    std::string_view c = chunks_[i];
     out.write(c.data(), static_cast<std::streamsize>(c.size()));
     crc = crc32(c, crc);
   }

@@ -156,11 +156,15 @@ void addSections(const Solution& s, SectionWriter& w, std::string& extensionHead
   if (!s.extension.name.empty()) {
     // The run's extension: its name in the extension table, its own format version, its bytes (as
     // Out::str writes a string: a u32 length, then the bytes).
-    if (s.extension.bytes.size() > 0xFFFFFFFFu) throw std::runtime_error("the extension's data exceed 4 GiB");
+    const std::uint64_t size = s.extension.write ? producedSize(s.extension.write) : s.extension.bytes.size();
+    if (size > 0xFFFFFFFFu) throw std::runtime_error("the extension's data exceed 4 GiB");
     Out x;
-    x.str(s.extension.name), x.pod(s.extension.version), x.pod<std::uint32_t>(std::uint32_t(s.extension.bytes.size()));
+    x.str(s.extension.name), x.pod(s.extension.version), x.pod<std::uint32_t>(std::uint32_t(size));
     extensionHead = x.take();
-    w.addPieces(kExtensionSection, {extensionHead, s.extension.bytes});
+    if (s.extension.write)
+      w.addProduced(kExtensionSection, extensionHead, s.extension.write);
+    else
+      w.addPieces(kExtensionSection, {extensionHead, s.extension.bytes});
   }
   for (const Section& sec : s.sections) w.addPieces(sec.name, {sec.payload});
 }

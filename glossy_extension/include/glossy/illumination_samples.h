@@ -69,7 +69,7 @@ class IlluminationSamples : public hr::Extension {
   std::size_t coefficients(hr::NodeId leaf) const override;
 
   std::uint32_t formatVersion() const override { return 2; }
-  std::string save() const override;
+  void save(std::ostream& out) const override;
   void load(std::string_view bytes, const hr::HostView& view) override;
   std::vector<hr::StatEntry> stats() const override;
 

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <initializer_list>
 #include <iosfwd>
 #include <string>
@@ -35,15 +36,28 @@ class SectionWriter {
   /// write() and finish(). For large payloads (a glossy solution's directional data runs to hundreds
   /// of megabytes, and every copy of it was resident at once while the file was written).
   void addPieces(std::string_view name, std::initializer_list<std::string_view> pieces);
+  /// A section whose payload is `prefix` then what `produce` writes, never held whole: produce runs
+  /// once here (size and checksum, for the header) and again in each write(). It must write the
+  /// same bytes each time (write() throws std::logic_error otherwise) and outlive the writer.
+  void addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce);
   /// Streams the whole file; the trailer's checksum is computed on the way.
   void write(std::ostream& out) const;
   /// The whole file as one string.
   std::string finish() const;
 
  private:
+  struct Produced {
+    std::function<void(std::ostream&)> produce;
+    std::uint64_t size = 0;
+  };
   std::deque<std::string> owned_;        // headers and copied payloads (a deque: views stay valid)
-  std::vector<std::string_view> chunks_;  // the file, in order, trailer excepted
+  std::vector<std::string_view> chunks_;  // the file, in order, trailer excepted; empty views at
+                                          // chunk indices listed in produced_
+  std::vector<std::pair<std::size_t, Produced>> produced_;
 };
+
+/// Bytes that `produce` writes, counted without keeping them.
+std::uint64_t producedSize(const std::function<void(std::ostream&)>& produce);
 
 /// Parses and verifies the container: magic, version, every section's bounds and checksum, the
 /// trailer. verifyChecksums = false skips the CRCs only (fuzzing reaches the payload parsers that

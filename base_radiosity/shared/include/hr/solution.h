@@ -5,6 +5,8 @@
 #include <hr/geometry.h>
 #include <hr/section_file.h>
 
+#include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -24,7 +26,10 @@ struct SolutionElement {
 struct ExtensionData {
   std::string name;  // empty: the run had no extension
   std::uint32_t version = 0;
-  std::string bytes;
+  std::string bytes;  // as loaded, or to be saved when `write` is empty
+  /// Saving a fresh run: writes the bytes straight into the file, run more than once (sized and
+  /// checksummed first), so that they are never held whole (a glossy solve's run to gigabytes).
+  std::function<void(std::ostream&)> write;
 };
 
 struct Solution {
