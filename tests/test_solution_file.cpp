@@ -80,10 +80,15 @@ TEST(SolutionFile, AProducedExtensionSectionIsTheHeldOnesFile) {
   EXPECT_EQ(slurp(p), expected);
   EXPECT_EQ(hr::loadSolution(p.string()).extension.bytes, payload);
 
+  // Changed between sizing and checksumming, and only when written.
   hr::Solution changing = smallSolution();
   int calls = 0;
   changing.extension = {"is", 3, {}, [&](std::ostream& o) { o << std::string(std::size_t(10 + calls++), 'x'); }};
   EXPECT_THROW(hr::serializeSolution(changing), std::logic_error);
+  hr::Solution late = smallSolution();
+  int runs2 = 0;
+  late.extension = {"is", 3, {}, [&](std::ostream& o) { o << std::string(runs2++ < 3 ? 10u : 11u, 'x'); }};
+  EXPECT_THROW(hr::serializeSolution(late), std::logic_error);
 }
 
 TEST(SolutionFile, ADamagedSectionIsNamed) {

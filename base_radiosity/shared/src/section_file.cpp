@@ -148,8 +148,8 @@ void SectionWriter::write(std::ostream& out) const {
       // Checked against the first run by its size: a section whose size changed would carry a wrong
       // header (and the section's CRC catches changed bytes when the file is read).
       if (through.count() != next->second.size)
-        throw std::logic_error("a produced section wrote " + std::to_string(through.count()) + " bytes, then " +
-                               std::to_string(next->second.size));
+        throw std::logic_error("a produced section was sized at " + std::to_string(next->second.size) +
+                               " bytes and wrote " + std::to_string(through.count()));
       crc = through.crc();
       ++next;
       continue;
