@@ -304,7 +304,8 @@ void IlluminationSamples::reflectShot(hr::NodeId leaf, std::span<const hr::Incid
   auto* s = slot(leaf);
   auto* u = slot(unshotElements_, unshotClusters_, leaf);
   if (!s || !u || leaf.isCluster() || !view_) return;
-  if (std::unique_ptr<NodeLight> add = reflected(leaf, samples)) {
+  // With what an ancestor reflected for every leaf below it this pass (reflectShared), if it did.
+  if (std::unique_ptr<NodeLight> add = reflected(leaf, samples, true)) {
     // The pass's reflection joins the total and the unshot light; the samples are then dropped.
     for (auto* target : {s, u}) {
       if (!*target) {

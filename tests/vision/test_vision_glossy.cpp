@@ -18,6 +18,7 @@
 #include "registry.h"
 #include "vision_helpers.h"
 #include "../saved_bytes.h"
+#include "../whole_sample_lists.h"
 
 namespace {
 
@@ -61,6 +62,35 @@ TEST(VisionGlossy, ClosedFurnaceKeepsEnergyAndReflectsAsTheOtherHost) {
   }
   std::printf("glossy furnace: absorbed/emitted %.5f, reflected vision %.4f W, bright %.4f W (ratio %.4f)\n",
               v.stats.absorbedW.y / v.stats.emittedW.y, rv.y, rb.y, rv.y / rb.y);
+}
+
+TEST(VisionGlossy, ReflectionInLayersGivesTheWholeSampleListsAnswer) {
+  // Shooting passes on flat glossy walls (the glossy furnace) with the host offering an inner
+  // element's samples once for its subtree (Extension::reflectShared) and with every leaf given all
+  // of its and its ancestors' samples: every leaf reflects the same power within 1e-4 (merging groups
+  // samples per layer instead of per leaf), radiosity within 1e-4, and the layers took most samples.
+  const std::string json = sceneText("glossy_furnace.json");
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = 2e-3;
+  auto layered = adapters::findExtension("is").make();
+  layered->configure({});
+  testutil::WholeSampleLists whole;
+  auto a = visiontest::solveText(json, o, layered.get());
+  auto b = visiontest::solveText(json, o, &whole);
+  const auto la = a.leaves(), lb = b.leaves();
+  ASSERT_EQ(la.size(), lb.size());
+  testutil::expectLayersTookMostSamples(*layered, whole);
+  double worstPower = 0.0, worstB = 0.0;
+  for (std::size_t i = 0; i < la.size(); ++i) {
+    ASSERT_EQ(la[i]->id, lb[i]->id);
+    worstB = std::max(worstB, hr::maxComponent(glm::abs(la[i]->B - lb[i]->B)) / std::max(1e-9, hr::maxComponent(lb[i]->B)));
+    const hr::Rgb pa = layered->reflectedPower(hr::NodeId{la[i]->id}), pb = whole.reflectedPower(hr::NodeId{lb[i]->id});
+    if (!(hr::maxComponent(pb) > 0.0)) continue;
+    worstPower = std::max(worstPower, hr::maxComponent(glm::abs(pa - pb)) / hr::maxComponent(pb));
+  }
+  std::printf("worst leaf: reflected power %.2e, radiosity %.2e (relative)\n", worstPower, worstB);
+  EXPECT_LT(worstPower, 1e-4);
+  EXPECT_LT(worstB, 1e-4);
 }
 
 TEST(VisionGlossy, OneAndTwoThreadsBitIdentical) {

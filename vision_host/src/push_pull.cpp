@@ -81,7 +81,7 @@ class PushPull {
       }
       Element& e = s_.h.roots()[c.surfaces[k - c.clusters.size()]];
       std::vector<hr::IncidentSample> samples;
-      element(e, Rgb(0.0), &here, true, push_ && s_.owned(e) ? &samples : nullptr);
+      element(e, Rgb(0.0), &here, true, push_ && s_.owned(e) ? &samples : nullptr, false);
     };
     // Subtrees the extension simulates get tasks too: reflection costs far more than a task.
     if (c.surfaceCount > 64 || (s_.ext && s_.ownedCluster[ci]))
@@ -97,16 +97,23 @@ class PushPull {
  private:
   /// `samples`: the extension's samples that reached the element from above (null outside the
   /// surfaces it simulates); restored to their length on return.
-  void element(Element& e, Rgb down, const Chain* chain, bool root, std::vector<hr::IncidentSample>* samples) {
+  /// `layered`: an ancestor's samples were taken by the extension for every leaf below it
+  /// (Extension::reflectShared), so a leaf is reflected even with no samples of its own.
+  void element(Element& e, Rgb down, const Chain* chain, bool root, std::vector<hr::IncidentSample>* samples,
+               bool layered) {
     const Surface& sf = s_.h.surfaces()[e.surface];
     if (root && chain && sf.planar()) {
       if (samples) chainSamples(chain, sf, e.rect, *samples);
       down += onPlane(chain, sf.normal(0.5, 0.5));
       chain = nullptr;
     }
-    const std::size_t mark = samples ? samples->size() : 0;
+    std::size_t mark = samples ? samples->size() : 0;
     if (samples) samples->insert(samples->end(), e.arrivals.begin(), e.arrivals.end());
     e.arrivals.clear();
+    // An inner element of a flat surface offers what reached it to the extension, which may reflect
+    // it once for every leaf below (a curved surface's leaves face apart: the extension declines).
+    if (samples && !e.leaf() && sf.planar() && s_.ext->reflectShared(hr::NodeId{e.id}, *samples))
+      samples->clear(), mark = 0, layered = true;
     const Rgb total = down + e.E;
     e.E = Rgb(0.0);
     if (e.leaf() && !push_) {
@@ -121,7 +128,7 @@ class PushPull {
       if (samples) {
         if (chain) chainSamples(chain, sf, e.rect, *samples);
         s_.handed.fetch_add(samples->size(), std::memory_order_relaxed);
-        if (!samples->empty()) s_.ext->reflectShot(hr::NodeId{e.id}, *samples);
+        if (!samples->empty() || layered) s_.ext->reflectShot(hr::NodeId{e.id}, *samples);
       }
     } else {
       Rgb P(0.0), BA(0.0);
@@ -130,10 +137,10 @@ class PushPull {
         // Each child with its own copy of the samples so far, in parallel (reflection is costly).
         tbb::parallel_for(0, int(e.nkids), [&](int k) {
           std::vector<hr::IncidentSample> mine(*samples);
-          element(e.kids[k], total, chain, false, &mine);
+          element(e.kids[k], total, chain, false, &mine, layered);
         });
       } else {
-        for (int k = 0; k < e.nkids; ++k) element(e.kids[k], total, chain, false, nullptr);
+        for (int k = 0; k < e.nkids; ++k) element(e.kids[k], total, chain, false, nullptr, false);
       }
       for (int k = 0; k < e.nkids; ++k) {
         const Element& c = e.kids[k];

@@ -106,9 +106,9 @@ class Extension {
   /// plane; possibly none) but those an ancestor's reflectShared took: its light replaces the
   /// previous iteration's.
   virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
-  /// Optional, gathering: an inner element of a simulated planar subtree with the samples that reached
-  /// it there (its own links', and at the top of a surface those of the clusters above), before its
-  /// children. Reflection is linear and every leaf below receives these samples alike, so an extension
+  /// Optional, gathering or a shooting pass: an inner element of a simulated planar subtree with the
+  /// samples that reached it there (its own links', and at the top of a surface those of the clusters
+  /// above), before its children. Reflection is linear and every leaf below receives these samples alike, so an extension
   /// may reflect them once for the subtree: true means it took them, and the host does not carry them
   /// down. Top-down, concurrent across disjoint subtrees; the default takes nothing.
   virtual bool reflectShared(NodeId /*element*/, std::span<const IncidentSample>) { return false; }
@@ -137,8 +137,9 @@ class Extension {
   virtual Rgb unshotIntensityBound(NodeId, const Vec3& /*axis*/, double /*cosHalfAngle*/) const { return Rgb(0.0); }
   /// A node's unshot power, W per channel: how shooters are chosen and when shooting stops. Const, concurrent.
   virtual Rgb unshotPower(NodeId) const { return Rgb(0.0); }
-  /// During the host's push, concurrent across leaves: a simulated leaf's samples of this pass, reflected
-  /// and added to both its total and its unshot light (the samples are then dropped).
+  /// During the host's push, concurrent across leaves: a simulated leaf's samples of this pass (those an
+  /// ancestor's reflectShared took excepted; possibly none), reflected and added to both its total
+  /// and its unshot light (the samples are then dropped).
   virtual void reflectShot(NodeId /*leaf*/, std::span<const IncidentSample>) {}
   /// A shooter's unshot light has been sent: clear it in the node and its subtree. Concurrent across
   /// disjoint subtrees, after the pass's gather and before its push.
