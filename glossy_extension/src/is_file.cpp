@@ -24,8 +24,7 @@ constexpr const char* kWhat = "solution file, section of extension 'is'";
 [[noreturn]] void refuse(const std::string& why) { throw hr::InputError(std::string(kWhat) + ": " + why); }
 
 /// FNV-1a, 64 bits: any change of one byte changes it, and random damage passes with odds 2^-64.
-std::uint64_t fnv1a(std::string_view bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ull) {
   for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
   return h;
 }
@@ -52,7 +51,7 @@ class HashingBuffer : public std::streambuf {
 
  protected:
   std::streamsize xsputn(const char* p, std::streamsize n) override {
-    for (std::streamsize i = 0; i < n; ++i) h_ = (h_ ^ static_cast<unsigned char>(p[i])) * 0x100000001b3ull;
+    h_ = fnv1a(std::string_view(p, std::size_t(n)), h_);
     n_ += std::uint64_t(n);
     return next_->sputn(p, n);
   }
@@ -64,7 +63,7 @@ class HashingBuffer : public std::streambuf {
 
  private:
   std::streambuf* next_;
-  std::uint64_t h_ = 0xcbf29ce484222325ull;
+  std::uint64_t h_ = fnv1a({});
   std::uint64_t n_ = 0;
 };
 

@@ -116,9 +116,9 @@ void SectionWriter::addPieces(std::string_view name, std::initializer_list<std::
   for (std::string_view p : pieces) chunks_.push_back(p);
 }
 
-void SectionWriter::addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce) {
+void SectionWriter::addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce,
+                                std::uint64_t size) {
   if (name.empty() || name.size() > kMaxName) throw std::logic_error("section name must have 1-64 bytes");
-  const std::uint64_t size = producedSize(produce);
   Produced p{std::move(produce), size};
   std::string head;
   put(head, static_cast<std::uint32_t>(name.size()));

@@ -162,7 +162,7 @@ void addSections(const Solution& s, SectionWriter& w, std::string& extensionHead
     x.str(s.extension.name), x.pod(s.extension.version), x.pod<std::uint32_t>(std::uint32_t(size));
     extensionHead = x.take();
     if (s.extension.write)
-      w.addProduced(kExtensionSection, extensionHead, s.extension.write);
+      w.addProduced(kExtensionSection, extensionHead, s.extension.write, size);
     else
       w.addPieces(kExtensionSection, {extensionHead, s.extension.bytes});
   }

@@ -36,10 +36,11 @@ class SectionWriter {
   /// write() and finish(). For large payloads (a glossy solution's directional data runs to hundreds
   /// of megabytes, and every copy of it was resident at once while the file was written).
   void addPieces(std::string_view name, std::initializer_list<std::string_view> pieces);
-  /// A section whose payload is `prefix` then what `produce` writes, never held whole: produce runs
-  /// once here (size and checksum, for the header) and again in each write(). It must write the
-  /// same bytes each time (write() throws std::logic_error otherwise) and outlive the writer.
-  void addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce);
+  /// A section whose payload is `prefix` then the `size` bytes (producedSize) `produce` writes, never
+  /// held whole: produce runs once here (the checksum, for the header) and again in each write(). It
+  /// must write the same bytes each time (std::logic_error otherwise) and outlive the writer.
+  void addProduced(std::string_view name, std::string prefix, std::function<void(std::ostream&)> produce,
+                   std::uint64_t size);
   /// Streams the whole file; the trailer's checksum is computed on the way.
   void write(std::ostream& out) const;
   /// The whole file as one string.
