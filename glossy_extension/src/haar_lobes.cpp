@@ -123,7 +123,8 @@ class Integrator {
       return;
     }
     // The unit lobe's shares of the stored cells, from the memo or integrated now (lobe_cache.h);
-    // either way deposited from the list, so a hit and a miss give the same bits.
+    // either way deposited from the list, so a hit and a miss give the same bits. A lobe that will
+    // not recur (a merged group's) is integrated without being kept.
     const LobeCache::Key key{{m_.x, m_.y, m_.z}, power_.exponent(), p_.store};
     std::span<const CellShare> shares;
     if (cache_.find(key, shares)) {
@@ -135,7 +136,7 @@ class Integrator {
       deep_.clear();
       for (std::uint64_t f = 0; f < 4; ++f) visit(0, f);
       evaluate();
-      shares = cache_.insert(key, shares_);
+      shares = lobe.recurs ? cache_.insert(key, shares_) : std::span<const CellShare>(shares_);
     }
     for (const CellShare& c : shares) deposit(c.cell, c.integral);
   }

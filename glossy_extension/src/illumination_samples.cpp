@@ -11,6 +11,7 @@
 #include <glossy/reflection.h>
 
 #include "is_counters.h"
+#include "lobe_cache.h"
 
 #include <cstdio>
 
@@ -36,7 +37,14 @@ void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) 
   refineReflections_ = parseReflectionRefine(values);
   finestLevel_ = levelCap(basis_);
   budgetLevels_ = -1;
+  LobeCache::setMaxEntries(LobeCache::kMaxEntries);  // a budget of an earlier solve in this process is not this one's
   basis_.haar.maxLevel = levelFor(0.0);
+}
+
+void IlluminationSamples::memoryBudget(std::size_t bytes) {
+  // Each thread's lobe memo within 1/64 of the budget: at its default bound (16 MB of shares a
+  // thread) it filled late in a 60 MB solve of the glossy Cornell box and took it to 122 %.
+  LobeCache::setMaxEntries(bytes / 64 / LobeCache::kBytesPerEntry);
 }
 
 void IlluminationSamples::limitDirectionalLevels(int levels) {

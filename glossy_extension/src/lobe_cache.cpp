@@ -1,11 +1,22 @@
 // The per-thread lobe memo (lobe_cache.h): an open-addressing table over one pool of cell shares.
 #include "lobe_cache.h"
 
+#include <algorithm>
+#include <atomic>
+
 namespace glossy {
 
 namespace {
 constexpr std::size_t kInitialSlots = 1 << 12;
+constexpr std::size_t kMinEntries = std::size_t(1) << 14;
+std::atomic<std::size_t> gMaxEntries{LobeCache::kMaxEntries};
+}  // namespace
+
+void LobeCache::setMaxEntries(std::size_t entries) {
+  gMaxEntries.store(std::clamp(entries, kMinEntries, kMaxEntries), std::memory_order_relaxed);
 }
+
+std::size_t LobeCache::maxEntries() { return gMaxEntries.load(std::memory_order_relaxed); }
 
 std::uint64_t LobeCache::hash(const Key& k) {
   // FNV-1a over the key's bytes, then a final mix: the mirror directions of one patch's lobes differ
@@ -35,13 +46,19 @@ bool LobeCache::find(const Key& k, std::span<const CellShare>& out) const {
 }
 
 void LobeCache::clear() {
+  // The pool is reserved at its bound once: growing it by doubling held the old and the new array at
+  // once (24 MB for a moment at the bound), a jump a memory budget (--memory-mb) cannot see coming;
+  // reserved pages cost resident memory only once written.
+  const std::size_t bound = maxEntries();
+  if (pool_.capacity() < bound) pool_.reserve(bound);
   slots_.assign(kInitialSlots, Slot{});
   pool_.clear();
   used_ = 0;
 }
 
 std::span<const CellShare> LobeCache::insert(const Key& k, std::span<const CellShare> shares) {
-  if (slots_.empty() || pool_.size() + shares.size() > kMaxEntries) clear();
+  const std::size_t bound = maxEntries();
+  if (slots_.empty() || pool_.size() + shares.size() > bound || 8 * (used_ + 1) > bound) clear();
   if (2 * (used_ + 1) > slots_.size()) {
     // Rehash into twice the slots (the pool stays where it is).
     std::vector<Slot> old(2 * slots_.size());

@@ -10,7 +10,8 @@
 // Determinism: hit or miss, the deposits come from the same list in the same order (a miss computes
 // the list, then replays it), so the result does not depend on which thread saw a lobe first or on
 // what the memo held. The memo is a pure function cache: it is never invalidated, only emptied when it
-// outgrows its bound (kMaxEntries per thread).
+// outgrows its bound (maxEntries() shares and an eighth as many lobes per thread; a memory budget
+// lowers it, since the budget cannot see a cache's growth coming).
 #pragma once
 #include <glossy/spherical_geometry.h>
 
@@ -30,8 +31,15 @@ struct CellShare {
 
 class LobeCache {
  public:
-  /// Cell shares one thread may hold before the memo is emptied: 1 M, 16 MB.
+  /// Cell shares one thread may hold before the memo is emptied by default: 1 M, 16 MB (and up to
+  /// an eighth as many lobes, whose table of slots takes under 32 MB).
   static constexpr std::size_t kMaxEntries = std::size_t(1) << 20;
+  /// Resident bytes a memo of `entries` shares may reach: the pool and the table of lobes.
+  static constexpr std::size_t kBytesPerEntry = sizeof(CellShare) + 32;
+  /// The bound every thread's memo keeps from its next insert on (any thread may set it, between
+  /// phases); at least a few lobes' worth, at most kMaxEntries.
+  static void setMaxEntries(std::size_t entries);
+  static std::size_t maxEntries();
 
   struct Key {
     double m[3];
@@ -45,6 +53,9 @@ class LobeCache {
   std::span<const CellShare> insert(const Key& k, std::span<const CellShare> shares);
 
   std::uint64_t hits = 0, misses = 0;
+  /// What the memo holds now: cell shares, and lobes.
+  std::size_t heldShares() const { return pool_.size(); }
+  std::size_t heldLobes() const { return used_; }
 
  private:
   struct Slot {

@@ -143,6 +143,7 @@ LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& fram
   struct Group {
     Vec3 seed, sum;
     Rgb e;
+    std::size_t members = 0;
   };
   std::vector<Group> groups;
   const double cosMerge = merge > 0.0 ? std::cos(merge) : 2.0;
@@ -156,17 +157,18 @@ LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& fram
     });
     if (found == MergeGrid::kNone) {
       found = std::uint32_t(groups.size());
-      groups.push_back({it.mirror, Vec3(0.0), Rgb(0.0)});
+      groups.push_back({it.mirror, Vec3(0.0), Rgb(0.0), 0});
       grid.insert(it.mirror, found);
     }
     Group& g = groups[found];
     g.sum += it.w * it.mirror;
     g.e += it.e;
+    ++g.members;
   }
   set.samples.reserve(groups.size());
   for (const Group& g : groups) {
     double len = glm::length(g.sum);
-    set.samples.push_back({len > 0.0 ? g.sum / len : g.seed, scale * g.e});
+    set.samples.push_back({len > 0.0 ? g.sum / len : g.seed, scale * g.e, g.members == 1});
   }
   counts.kept += set.samples.size();
   return set;

@@ -51,9 +51,10 @@ class MemoryBudget {
   /// Whether the threshold has come down to the requested eps (a converged solve needs it, or a
   /// budget that froze refinement first).
   bool atRequested() const { return eps_ <= requested_; }
-  /// Levels of directional subdivision above the coarsest the next pass may use (one per factor 4
-  /// the threshold has come down from the start, as a spatial level quarters an element's area, as
-  /// long as a level more fits), or -1: any (no budget).
+  /// Levels of directional subdivision above the coarsest the next pass may use, or -1: any (no
+  /// budget). One per factor 4 the threshold has come down from the start (as a spatial level
+  /// quarters an element's area), raised one at a time in a pass that does not refine further, and
+  /// only while a level more fits, together with the threshold a factor 4 further down.
   int directionalLevels() const;
   /// Whether the last afterPass lowered the directional levels (the next pass must sweep with them:
   /// the distributions are rebuilt every sweep, so a lower level gives their memory back).
@@ -80,7 +81,12 @@ class MemoryBudget {
   std::size_t base_ = 0;
   double lastEps_ = 0.0, lastVar_ = 0.0;  // the previous pass: threshold and memory above the base
   RefineCap cap_;
+  /// One level of directional subdivision per factor 4 the threshold has come down from the start.
+  static int levelsFor(double eps);
+  int levels_ = 1;            // the directional levels the next pass uses
   int dirCeiling_ = 1 << 20;  // directional levels are held at or below this once they would not fit
+  std::size_t lastLinks_ = 0; // the links after the previous pass
+  double restPerLink_ = 0.0;  // the cap's price per link beside the extension's bytes, last pass
   bool steppedBack_ = false;
   int lastLevels_ = -1;          // the directional levels the previous pass used, and the extension's
   double lastExtension_ = 0.0;   // bytes then

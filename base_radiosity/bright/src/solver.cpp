@@ -137,6 +137,7 @@ struct Solver::Impl {
     // twice kept both copies (the Cornell box at 60 MB: 12 MB for 15k more links). A fixed threshold
     // gives freed link arrays back, so the resident memory the budget steers by is what is live.
     if (budget.active()) mallopt(M_MMAP_THRESHOLD, 1 << 20);
+    if (budget.active() && s.ext) s.ext->memoryBudget(s.opt.memoryBudgetBytes);
     budget.start(peakRssBytes());
     for (int pass = 1; s.opt.iteration == Iteration::Gather && it < s.opt.maxIterations; ++pass) {
       progress->phase("pass " + std::to_string(pass) + ": refine");

@@ -76,6 +76,10 @@ class Extension {
   /// the spatial threshold the budget has reached, so a tight budget does not spend its memory on
   /// fine lobes over coarse elements. Serial, before a pass; never called without a budget.
   virtual void limitDirectionalLevels(int /*levels*/) {}
+  /// A memory budget holds the whole process to `bytes`: an extension sizes what it keeps for speed
+  /// alone (caches) from it, since the budget steers by the memory it has seen and a cache grows
+  /// when it will. Serial, once before the first pass; never called without a budget.
+  virtual void memoryBudget(std::size_t /*bytes*/) {}
   /// Bytes the extension's data hold now: a memory budget reserves what writing them out (solution
   /// file, display) will cost. Serial, between passes.
   virtual std::size_t heldBytes() const { return 0; }

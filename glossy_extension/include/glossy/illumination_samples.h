@@ -43,6 +43,7 @@ class IlluminationSamples : public hr::Extension {
   void attach(const hr::HostView& view) override;
   void split(hr::NodeId parent, std::span<const hr::NodeId> children) override;
   void limitDirectionalLevels(int levels) override;
+  void memoryBudget(std::size_t bytes) override;
   std::size_t heldBytes() const override;
 
   hr::Rgb intensity(hr::NodeId node, const hr::Vec3& dir) const override;

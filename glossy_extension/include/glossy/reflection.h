@@ -26,6 +26,10 @@ namespace glossy {
 struct LobeSample {
   Vec3 mirror{0, 0, 1};  // unit mirror direction of the light's direction
   Rgb weight{0.0};       // W/sr: A rho_s (N + 2) / (2 pi) E, the lobe's peak per unit cos(theta_o)
+  /// Whether the lobe's shape recurs from sweep to sweep (one sample's own mirror direction, fixed by
+  /// its link), so the per-thread lobe memo should keep it; a merged group's direction is weighted by
+  /// irradiances that change every sweep, and kept it only filled the memo.
+  bool recurs = true;
 };
 
 struct ReflectCounts {
