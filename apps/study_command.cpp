@@ -44,7 +44,8 @@ constexpr long long kReferenceSeed = 1, kCurveSeed = 7919;
 
 study::GridKeys gridKeys() {
   study::GridKeys k;
-  k.core = {"eps", "max-level", "rays-per-link", "tolerance", "max-iterations", "seed", "iteration", "shoot-fraction", "host"};
+  k.core = {"eps", "max-level", "rays-per-link", "tolerance", "max-iterations", "seed", "iteration", "shoot-fraction", "host",
+            "memory-mb"};
   for (const auto& e : adapters::extensionTable()) {
     std::vector<std::string> opts;
     if (e.make)
