@@ -124,10 +124,10 @@ class Integrator {
     }
     // The unit lobe's shares of the stored cells, from the memo or integrated now (lobe_cache.h);
     // either way deposited from the list, so a hit and a miss give the same bits. A lobe that will
-    // not recur (a merged group's) is integrated without being kept.
+    // not recur (a merged group's) is neither looked up nor kept.
     const LobeCache::Key key{{m_.x, m_.y, m_.z}, power_.exponent(), p_.store};
     std::span<const CellShare> shares;
-    if (cache_.find(key, shares)) {
+    if (lobe.recurs && cache_.find(key, shares)) {
       ++cache_.hits;
     } else {
       ++cache_.misses;

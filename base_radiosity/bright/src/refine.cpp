@@ -218,11 +218,20 @@ double urgency(const SolverState& s, const Link& l, double threshold) {
   return u;
 }
 
-/// Number of child links a decision makes.
+/// Hierarchy::subdivideAll makes four children of every leaf it splits.
+constexpr std::size_t kChildrenPerLeaf = 4;
+
+/// Number of child links a decision makes, the same before subdivideNamed splits the leaves it names
+/// as after: such a leaf has no children yet, and counting its 0 made a memory cap price a leaf's
+/// split at 2^32 - 1 links (capRound: never taken) or at minus its links (capReceivers: the glossy
+/// Cornell box at 300 MB, a receiver pass estimated at 0.10 M more links made 0.41 M, peak 1.14 x).
 std::size_t childCount(const SolverState& s, const Link& l, Action a) {
+  auto split = [&](NodeId n) {
+    return !n.isCluster() && s.h.element(n.index()).leaf() ? kChildrenPerLeaf : s.h.children(n).size();
+  };
   switch (a) {
-    case Action::SplitSender: return s.h.children(l.sender).size();
-    case Action::SplitReceiver: return s.h.children(l.receiver).size();
+    case Action::SplitSender: return split(l.sender);
+    case Action::SplitReceiver: return split(l.receiver);
     case Action::SplitSelf: {
       // Every ordered pair of children, and the children's self-links (clusters only).
       auto kids = s.h.children(l.sender);
@@ -259,22 +268,6 @@ std::uint32_t splitLeaf(const SolverState& s, const Link& l, Action a) {
   return e.value != kNone && !e.isCluster() && s.h.element(e.index()).leaf() ? e.index() : kNoLeaf;
 }
 
-/// Hierarchy::subdivideAll makes four children of every leaf it splits.
-constexpr std::size_t kChildrenPerLeaf = 4;
-
-/// The links a split makes, counted before the leaves it names are subdivided: such a leaf has no
-/// children yet, and childCount's 0 made the cap count a leaf's split as a link fewer (capRound, which
-/// then also priced it at 2^32 - 1 links and never took it) or as minus its links (capReceivers: the
-/// glossy Cornell box at 300 MB, a receiver pass estimated at 0.10 M more links made 0.41 M, peak 1.14 x).
-std::size_t linksMade(const SolverState& s, const Link& l, Action a) {
-  auto unsplit = [&](NodeId n) { return !n.isCluster() && s.h.element(n.index()).leaf(); };
-  switch (a) {
-    case Action::SplitSender: return unsplit(l.sender) ? kChildrenPerLeaf : childCount(s, l, a);
-    case Action::SplitReceiver: return unsplit(l.receiver) ? kChildrenPerLeaf : childCount(s, l, a);
-    default: return childCount(s, l, a);  // a self-link's sender is a cluster (decide)
-  }
-}
-
 /// Under a memory budget: when a round's decisions would make more links and elements than the cap
 /// allows, only the most urgent splits that fit are made, and the others keep their link as it is
 /// (evaluated and valid, only coarser). A self-link cannot be kept: it always splits.
@@ -286,7 +279,7 @@ void capRound(SolverState& s, const LinkArray& links, std::vector<Action>& act, 
   std::size_t all = keptLinks, none = keptLinks, leaves = 0;
   std::vector<std::uint32_t> cand, add, leaf;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t c = linksMade(s, links[i], act[i]);
+    const std::size_t c = childCount(s, links[i], act[i]);
     all += act[i] == Action::Keep ? 1 : c;
     const bool optional = c > 0 && act[i] != Action::SplitSelf;
     none += optional || act[i] == Action::Keep ? 1 : c;
@@ -406,7 +399,7 @@ void capReceivers(SolverState& s, const LinkArray& kept, const std::vector<std::
   for (std::uint32_t g = 0; g < splitIt.size(); ++g) {
     if (!splitIt[g]) continue;
     const Link& first = kept[idx[start[g]]];
-    const std::size_t more = (linksMade(s, first, Action::SplitReceiver) - 1) * (start[g + 1] - start[g]);
+    const std::size_t more = (childCount(s, first, Action::SplitReceiver) - 1) * (start[g + 1] - start[g]);
     const std::uint32_t e = splitLeaf(s, first, Action::SplitReceiver);
     cand.push_back(g), add.push_back(std::uint32_t(more)), leaf.push_back(e), urg.push_back(excess[g]);
     allLinks += more, leaves += e != kNoLeaf ? 1 : 0;  // one group per receiver: no leaf twice
