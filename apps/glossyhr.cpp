@@ -378,7 +378,7 @@ int main(int argc, char** argv) {
   auto* studyCmd = app.add_subcommand("study", "what accuracy costs: a grid of solves against a reference and the path tracer");
   studyCmd->add_option("scene", sta.scene, "scene file (.json or .mgf)")->required();
   studyCmd->add_option("-o,--output", sta.out, "output folder (study.csv, study.json, plots)")->capture_default_str();
-  studyCmd->add_option("--grid", sta.grid, std::string("configurations, KEY=V,V;KEY=V,... (default \"") + kDefaultStudyGrid + "\")");
+  studyCmd->add_option("--grid", sta.grid, std::string("configurations, KEY=V,V;KEY=V,...; products joined by '|' run in turn (default \"") + kDefaultStudyGrid + "\")");
   studyCmd->add_option("--reference-spp", sta.referenceSpp, "samples per pixel of the cached reference (default 1024)");
   studyCmd->add_option("--reference", sta.reference, "instead: this EXR is the reference (one-camera scenes)");
   studyCmd->add_option("--views", sta.views, "walkthrough length for the economics columns (default 10)");

@@ -57,6 +57,16 @@ TEST(StudyGrid, CartesianProductWithoutKeysAnAlgorithmDoesNotTake) {
   EXPECT_EQ(labels(study::parseGrid("max-level=3", keys())), std::vector<std::string>{"algorithm=diffuse max-level=3"});
 }
 
+TEST(StudyGrid, ProductsJoinedByABarAreSweptInTurnEachConfigurationOnce) {
+  auto cs = study::parseGrid("algorithm=is;basis=haar;dir-eps=0.5,0.1 | algorithm=is;basis=sh,haar;dir-eps=0.5", keys());
+  // The second product's haar at 0.5 is the first's: solved once.
+  std::vector<std::string> want = {"algorithm=is basis=haar dir-eps=0.5", "algorithm=is basis=haar dir-eps=0.1",
+                                   "algorithm=is basis=sh dir-eps=0.5"};
+  EXPECT_EQ(labels(cs), want);
+  EXPECT_NE(thrownBy("eps=1 | ").find("an empty product"), std::string::npos) << thrownBy("eps=1 | ");
+  EXPECT_NE(thrownBy("eps=1 | colour=red").find("unknown key \"colour\""), std::string::npos);
+}
+
 TEST(StudyGrid, RefusesWhatItCannotSweepNamingTheCulprit) {
   EXPECT_NE(thrownBy("colour=red").find("unknown key \"colour\" (keys: algorithm, eps, max-level, basis, dir-eps)"),
             std::string::npos)

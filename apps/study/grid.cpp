@@ -35,7 +35,10 @@ std::string join(const std::vector<std::string>& v) {
 
 }  // namespace
 
-std::vector<Config> parseGrid(const std::string& spec, const GridKeys& keys) {
+namespace {
+
+/// One cartesian product ("KEY=V,V;KEY=V"), its configurations appended to `out` unless already there.
+void parseProduct(const std::string& spec, const GridKeys& keys, std::vector<Config>& out, std::set<Config>& known) {
   std::vector<std::string> valid = {"algorithm"};
   valid.insert(valid.end(), keys.core.begin(), keys.core.end());
   std::vector<std::string> algorithms;
@@ -69,8 +72,6 @@ std::vector<Config> parseGrid(const std::string& spec, const GridKeys& keys) {
   if (alg == axes.end()) axes.insert(axes.begin(), {"algorithm", {"diffuse"}});
   else std::rotate(axes.begin(), alg, alg + 1);
 
-  std::vector<Config> out;
-  std::set<Config> seen;
   std::vector<std::size_t> idx(axes.size(), 0);
   while (true) {
     Config c;
@@ -84,15 +85,28 @@ std::vector<Config> parseGrid(const std::string& spec, const GridKeys& keys) {
                      (own && std::find(own->begin(), own->end(), key) != own->end());
       if (applies) c.emplace_back(key, axes[k].second[idx[k]]);
     }
-    if (seen.insert(c).second) out.push_back(c);
+    if (known.insert(c).second) out.push_back(c);
     std::size_t k = axes.size();
     while (k > 0) {
       --k;
       if (++idx[k] < axes[k].second.size()) break;
       idx[k] = 0;
-      if (k == 0) return out;
+      if (k == 0) return;
     }
   }
+}
+
+}  // namespace
+
+std::vector<Config> parseGrid(const std::string& spec, const GridKeys& keys) {
+  std::vector<Config> out;
+  std::set<Config> seen;
+  std::vector<std::string> products = split(spec, '|');
+  for (const std::string& p : products) {
+    if (products.size() > 1 && trim(p).empty()) throw hr::InputError("--grid: an empty product between '|'");
+    parseProduct(p, keys, out, seen);
+  }
+  return out;
 }
 
 std::string label(const Config& c) {

@@ -1,7 +1,9 @@
 // A study's grid: the configurations `glossyhr study` sweeps, each a list of `solve` flags. The grid
 // is a cartesian product of keys and values ("algorithm=diffuse,is;eps=1e-3,1e-4;basis=haar,sh");
 // keys an algorithm does not take (a directional basis for the diffuse core) are dropped for it, so
-// a configuration is never solved twice under two names.
+// a configuration is never solved twice under two names. Products joined by '|' are swept one after
+// the other ("basis=haar;dir-max-level=3,4 | basis=tetra;tetra-level=3,4"): each basis's own curve in
+// one study, without the products of options that only another basis reads.
 #pragma once
 #include <string>
 #include <utility>
