@@ -28,7 +28,8 @@ ScratchDir::~ScratchDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
-ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath) {
+ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath,
+                const std::string& image) {
   std::vector<std::string> all = {program};
   all.insert(all.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -40,7 +41,8 @@ ChildResult run(const std::string& program, const std::vector<std::string>& args
   posix_spawn_file_actions_adddup2(&fa, 1, 2);
   auto t0 = std::chrono::steady_clock::now();
   pid_t pid = 0;
-  int rc = posix_spawnp(&pid, program.c_str(), &fa, nullptr, argv.data(), environ);
+  int rc = image.empty() ? posix_spawnp(&pid, program.c_str(), &fa, nullptr, argv.data(), environ)
+                         : posix_spawn(&pid, image.c_str(), &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
   int status = 0;
@@ -53,7 +55,9 @@ ChildResult run(const std::string& program, const std::vector<std::string>& args
 }
 
 ChildResult runSelf(const std::vector<std::string>& args, const std::string& logPath) {
-  return run(std::filesystem::read_symlink("/proc/self/exe").string(), args, logPath);
+  // The child's /proc/self/exe, resolved as it execs, is still the parent's image (it is a copy of the
+  // parent until then); by name, a rebuild mid-study made every later configuration fail to start.
+  return run(std::filesystem::read_symlink("/proc/self/exe").string(), args, logPath, "/proc/self/exe");
 }
 
 std::string failureReason(const std::string& logPath) {

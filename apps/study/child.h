@@ -28,8 +28,11 @@ struct ChildResult {
 
 /// Runs `program` (searched on PATH when it has no slash) with `args`, stdout and stderr appended to
 /// `logPath`. Throws std::runtime_error when the process cannot be started.
-ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath);
-/// run() of this executable.
+/// `image`, when given, is the file executed (argv[0] stays `program`).
+ChildResult run(const std::string& program, const std::vector<std::string>& args, const std::string& logPath,
+                const std::string& image = "");
+/// run() of this executable: the one running, even if a rebuild has since replaced or deleted its file
+/// (a study of the Soda Shoppe lasts an hour; every configuration must be solved by the same build).
 ChildResult runSelf(const std::vector<std::string>& args, const std::string& logPath);
 
 /// Why a child failed: the first line of `logPath` that starts with "error", else its first line
