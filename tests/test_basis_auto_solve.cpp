@@ -1,4 +1,4 @@
-// --basis auto end to end, through the command line: a scene with a broad (n = 5) and a sharp
+// --basis auto end to end, through the command line: a scene with a broad (n = 10) and a sharp
 // (n = 1000) glossy floor gets spherical harmonics for one and Haar for the other in one solve, says so
 // in the summary and in stats.json, keeps its energy within 1 %, and its solution file loads and saves
 // back to the same bytes and renders again.
@@ -22,7 +22,7 @@ const char* kTwoFloors = R"({
   "materials": {
     "lamp": { "emission": [6, 6, 6] },
     "wall": { "diffuse": [0.6, 0.6, 0.6] },
-    "broad": { "diffuse": [0.2, 0.2, 0.2], "specular": [0.5, 0.5, 0.5], "exponent": 5 },
+    "broad": { "diffuse": [0.2, 0.2, 0.2], "specular": [0.5, 0.5, 0.5], "exponent": 10 },
     "sharp": { "diffuse": [0.1, 0.1, 0.1], "specular": [0.7, 0.7, 0.7], "exponent": 1000 }
   },
   "objects": [

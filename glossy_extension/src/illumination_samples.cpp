@@ -519,9 +519,9 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       for (const auto& [exponent, choice] : autoChoices_)
         if (basis_.automatic && exponent == info.exponent && choice.basis == materialBasis(m))
           std::snprintf(text, sizeof text, "%s (auto, exponent %g; lobe l2 error haar %.3f, tetra %.3f, sh %.3f; "
-                        "weighed by cost (error x ns^%.2f) %.3f, %.3f, %.3f)",
+                        "weighed by solve cost %.3f, %.3f, %.3f)",
                         basisName(choice.basis), exponent, choice.l2RelError[0], choice.l2RelError[1], choice.l2RelError[2],
-                        kCostExponent, choice.merit[0], choice.merit[1], choice.merit[2]);
+                        choice.merit[0], choice.merit[1], choice.merit[2]);
       out.push_back({key, std::string(text)});
       // The finest Haar level its leaves are refined to (lobe_level.h, or --dir-max-level, or the budget's).
       if (materialBasis(m) == Basis::Haar)

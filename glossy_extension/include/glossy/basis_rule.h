@@ -2,8 +2,9 @@
 // lobe alone (the host keeps rho_d) and a basis's relative error does not depend on the lobe's scale,
 // so the Phong exponent decides, with the settings of each basis; the diffuse / specular split does
 // not. The rule measures rather than guesses: each basis projects the material's lobe as a solve
-// would (LobeSpec::asSolved, 30 degrees incidence), and the basis whose relative L2 error, weighed by
-// what its distributions cost to evaluate, is smallest wins: error x cost^kCostExponent, so that a
+// would (LobeSpec::asSolved, its errors and coefficients averaged over 0, 30 and 60 degrees
+// incidence), and the basis whose relative L2 error, weighed by
+// what it costs a solve, is smallest wins: max(error, kErrorFloor) x cost^kCostExponent, so that a
 // basis wins only if no other reaches its error sooner along the error-time curves the study
 // measures. Why, and the crossovers it gives: docs/directional.md, "Choosing the basis per material".
 #pragma once
@@ -19,19 +20,26 @@ namespace glossy {
 /// basis twice as costly must therefore be 2^0.25 = 1.19 times as accurate to be worth it.
 inline constexpr double kCostExponent = 0.25;
 
-/// What one evaluation of a distribution of basis b costs at the settings of `spec`, in ns of the
-/// CI machine type (bench_directional's "eval ns": Haar 10-28 by depth, tetrahedron 37-56, SH
-/// 1.9-2.1 per coefficient). Evaluations (transfer, bounds, display, SH's projection quadrature)
-/// are what a glossy solve's time follows across bases. A fixed model, not a timing: the choice
-/// must not depend on the machine's load.
-double evaluationCostNs(Basis b, const BasisSpec& spec);
+/// A lobe's relative L2 error below which no image measured got better: on the glossy sphere the
+/// tetrahedron's level 5 (lobe error 0.037 at n = 30) and SH-16 (0.016) drew no better image than
+/// the tetrahedron's level 4 (0.137), at 1.8 and 11 times its time. Errors are weighed from here up.
+inline constexpr double kErrorFloor = 0.1;
+
+/// What a glossy solve's time grows by with a distribution of basis b whose lobe measured
+/// `lobeCoefficients`, in units of one Haar coefficient. Fitted to the glossy sphere's study, one
+/// curve per basis (seconds at levels / orders 3-5, 8-16): Haar's time follows its coefficients
+/// (adaptive: the lobe's own cells), the tetrahedron's is mostly fixed (locating a direction's face,
+/// whatever the level) plus a little per vertex, and SH's follows its coefficients 13.5 times as
+/// steeply (every harmonic at every evaluation, and its projection quadrature). A fixed model, not a
+/// timing: the choice must not depend on the machine's load.
+double solveCost(Basis b, std::size_t lobeCoefficients);
 
 struct AutoChoice {
   Basis basis = Basis::Haar;
-  std::array<double, 3> l2RelError{};          // per Basis (haar, tetra, sh)
-  std::array<std::size_t, 3> coefficients{};   // of the measured lobe, per Basis
-  std::array<double, 3> costNs{};              // evaluationCostNs per Basis
-  std::array<double, 3> merit{};               // l2RelError * costNs^kCostExponent: the smallest wins
+  std::array<double, 3> l2RelError{};          // per Basis (haar, tetra, sh), mean over the incidences
+  std::array<std::size_t, 3> coefficients{};   // of the measured lobes (mean), per Basis
+  std::array<double, 3> cost{};                // solveCost per Basis
+  std::array<double, 3> merit{};               // max(l2RelError, kErrorFloor) * cost^kCostExponent: the smallest wins
 };
 
 /// The measurement behind the choice for a material of Phong exponent n >= 0 with the settings of
