@@ -100,6 +100,7 @@ class Adapter final : public hr::Extension {
   hr::Rgb intensity(hr::NodeId n, const hr::Vec3& d) const override { return in_->intensity(n, d); }
   hr::Rgb meanIntensity(hr::NodeId n, std::span<const hr::Vec3> p) const override { return in_->meanIntensity(n, p); }
   hr::Rgb intensityBound(hr::NodeId n, const hr::Vec3& a, double c) const override { return in_->intensityBound(n, a, c); }
+  hr::Rgb totalPower(hr::NodeId n) const override { return in_->totalPower(n); }
   void gather(hr::NodeId r, std::span<const hr::IncidentSample> s) override { in_->gather(r, s); }
   bool reflectsInGather() const override { return in_->reflectsInGather(); }
   void reflect(hr::NodeId l, std::span<const hr::IncidentSample> s) override { in_->reflect(l, s); }

@@ -33,10 +33,6 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
-}  // namespace
-
-namespace {
-
 /// One cartesian product ("KEY=V,V;KEY=V"), its configurations appended to `out` unless already there.
 void parseProduct(const std::string& spec, const GridKeys& keys, std::vector<Config>& out, std::set<Config>& known) {
   std::vector<std::string> valid = {"algorithm"};

@@ -430,6 +430,11 @@ double IlluminationSamples::powerChange() const {
   return sum;
 }
 
+hr::Rgb IlluminationSamples::totalPower(hr::NodeId node) const {
+  const NodeLight* l = light(node);
+  return l ? l->totalPower() : Rgb(0.0);
+}
+
 hr::Rgb IlluminationSamples::unshotPower(hr::NodeId node) const {
   const NodeLight* l = unshotLight(node);
   return l ? l->totalPower() : Rgb(0.0);

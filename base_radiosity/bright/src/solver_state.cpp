@@ -6,7 +6,6 @@
 #include <cassert>
 
 #include <hr/kernel.h>
-#include <hr/audit_estimators.h>
 
 #include "solver_state.h"
 
@@ -94,8 +93,8 @@ Rgb SolverState::extensionShare(const Link& l) const {
   // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
   // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
   if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return extensionNearField(l);
-  const Vec3 toRecv = -Vec3(l.dir);
   if (l.measured) return extensionPowerPerArea(l.sender.index());
+  const Vec3 toRecv = -Vec3(l.dir);
   Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
   if (l.sender.isCluster()) return I;
   const Element& e = h.element(l.sender.index());
@@ -123,18 +122,12 @@ Rgb SolverState::extensionPowerPerArea(std::uint32_t e) const {
   // mirror's lobe pointed at the centre (the centre can be anywhere, the sender lies inside the
   // cluster) made it 10-40 times the lobe's power, and two stainless discs 5 mm apart in the glossy
   // Soda Shoppe, whose links a memory budget left unrefined, fed each other 4.4 times what they sent
-  // until the solve diverged. So the share is the sender's whole power per area (its four octants'
-  // mean intensities, exact for Haar), delivered as its Lambertian light is: never more than F of it.
-  const Element& se = h.element(e);
-  Vec3 u, v;
-  audit::tangentFrame(se.normal, u, v);
-  const Vec3 axes[4] = {u, v, -u, -v};
-  Rgb power(0.0);
-  for (int k = 0; k < 4; ++k) {
-    const Vec3 octant[3] = {se.normal, axes[k], axes[(k + 1) % 4]};
-    power += extMeanIntensity(NodeId{e}, std::span<const Vec3>(octant, 3)) * (kPi / 2.0);
-  }
-  return allFinite(power) && se.area > 0.0 ? glm::max(power, Rgb(0.0)) / se.area : Rgb(0.0);
+  // until the solve diverged. So the share is the sender's whole power per area, delivered as its
+  // Lambertian light is: never more than F of it.
+  const NodeId n{e};
+  const Rgb power = shooting ? ext->unshotPower(n) : ext->totalPower(n);
+  const double area = h.element(e).area;
+  return allFinite(power) && area > 0.0 ? glm::max(power, Rgb(0.0)) / area : Rgb(0.0);
 }
 
 /// (r_s + r_r) / d below which a glossy sender's light is averaged over its receiver.

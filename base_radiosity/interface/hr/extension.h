@@ -87,6 +87,9 @@ class Extension {
   // Sending: const, concurrent with each other, never during the phases below.
   /// The extension's share of a node's exitant radiant intensity toward unit dir, W/sr.
   virtual Rgb intensity(NodeId, const Vec3& /*dir*/) const { return Rgb(0.0); }
+  /// Its whole exitant power, W per channel: what a link carries whose direction means nothing (a
+  /// sender inside the cluster it lights). The total-light kin of unshotPower.
+  virtual Rgb totalPower(NodeId) const { return Rgb(0.0); }
   /// Its mean over a convex spherical polygon of unit directions (the receiver seen from the node):
   /// what a link delivers to an extended receiver; a narrow lobe must not be sampled at a few points.
   virtual Rgb meanIntensity(NodeId n, std::span<const Vec3> polygon) const {

@@ -47,6 +47,7 @@ class IlluminationSamples : public hr::Extension {
   std::size_t heldBytes() const override;
 
   hr::Rgb intensity(hr::NodeId node, const hr::Vec3& dir) const override;
+  hr::Rgb totalPower(hr::NodeId node) const override;
   hr::Rgb meanIntensity(hr::NodeId node, std::span<const hr::Vec3> polygon) const override;
   hr::Rgb intensityBound(hr::NodeId node, const hr::Vec3& axis, double cosHalfAngle) const override;
 
