@@ -271,7 +271,7 @@ std::uint32_t splitLeaf(const SolverState& s, const Link& l, Action a) {
 /// Under a memory budget: when a round's decisions would make more links and elements than the cap
 /// allows, only the most urgent splits that fit are made, and the others keep their link as it is
 /// (evaluated and valid, only coarser). A self-link cannot be kept: it always splits.
-void capRound(SolverState& s, const LinkArray& links, std::vector<Action>& act, std::size_t keptLinks,
+void capRound(SolverState& s, LinkArray& links, std::vector<Action>& act, std::size_t keptLinks,
               double threshold) {
   if (!s.cap.active()) return;
   const std::size_t n = links.size(), E = s.h.elements().size();
@@ -292,7 +292,7 @@ void capRound(SolverState& s, const LinkArray& links, std::vector<Action>& act, 
   tbb::parallel_for(std::size_t(0), cand.size(), [&](std::size_t k) { urg[k] = urgency(s, links[cand[k]], threshold); });
   const std::vector<std::uint8_t> take = fitMostUrgent(s.cap, none, E, urg, add, leaf, kChildrenPerLeaf);
   for (std::size_t k = 0; k < cand.size(); ++k)
-    if (!take[k]) act[cand[k]] = links[cand[k]].bound > 0.0f ? Action::Keep : Action::Drop, s.capCut = true;
+    if (!take[k]) act[cand[k]] = links[cand[k]].bound > 0.0f ? Action::Keep : Action::Drop, links[cand[k]].capped = true, s.capCut = true;
 }
 
 /// Links per block of the parallel bookkeeping: each block is counted, then written, by one task, so
@@ -503,7 +503,7 @@ std::size_t refineLinks(SolverState& s) {
     std::vector<Action> act(pending.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 256), [&](const auto& r) {
       s.clkRefine.sawThread();
-      for (std::size_t i = r.begin(); i != r.end(); ++i) act[i] = decide(s, pending[i], threshold);
+      for (std::size_t i = r.begin(); i != r.end(); ++i) act[i] = decide(s, pending[i], threshold), pending[i].capped = false;
     });
     capRound(s, pending, act, kept.size(), threshold);
     splitCount += applyDecisions(s, pending, act, kept);

@@ -68,7 +68,7 @@ void SolverState::growArrays() {
 Rgb SolverState::hostValue(const Link& l) const {
   if (l.sender.isCluster()) {
     assert(!shooting && "shooters are patches: a cluster never sends unshot light");
-    return clusterIntensity(l.sender.index(), -Vec3(l.dir));
+    return l.measured ? clusterPower(l.sender.index()) / (4.0 * kPi) : clusterIntensity(l.sender.index(), -Vec3(l.dir));
   }
   const Element& e = h.element(l.sender.index());
   double ws = l.wkid[0] + l.wkid[1] + l.wkid[2] + l.wkid[3];
@@ -93,6 +93,10 @@ Rgb SolverState::extensionShare(const Link& l) const {
   // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
   // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
   if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return extensionNearField(l);
+  if (l.measured && l.sender.isCluster()) {  // the host's unit there: power over 4 pi (hostValue)
+    const Rgb p = ext->totalPower(l.sender);
+    return allFinite(p) ? glm::max(p, Rgb(0.0)) / (4.0 * kPi) : Rgb(0.0);
+  }
   if (l.measured) return extensionPowerPerArea(l.sender.index());
   const Vec3 toRecv = -Vec3(l.dir);
   Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
@@ -234,6 +238,16 @@ void SolverState::allocateTables() {
     if (h.cluster(c).patchEnd - h.cluster(c).patchBegin > kExactPatches) tableSlot[c] = n++;
   table.assign(std::size_t(n) * OctaMap::kBins * 3, 0.0f);
   peak.assign(h.clusters().size(), 0.0);
+}
+
+Rgb SolverState::clusterPower(std::uint32_t c) const {
+  const Cluster& cl = h.cluster(c);
+  Rgb P(0.0);
+  for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
+    const std::uint32_t p = h.patchOrder()[i];  // the root element of patch p has index p
+    P += B[p] * openArea(p);
+  }
+  return P;
 }
 
 Rgb SolverState::clusterIntensity(std::uint32_t c, const Vec3& dir) const {

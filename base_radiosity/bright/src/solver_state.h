@@ -33,7 +33,8 @@ struct Link {
   float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
   bool evaluated = false;
-  bool measured = false;  // an overlapping element-to-cluster link's power was measured by rays (measureOverlap)
+  bool measured = false;  // an overlapping link with a cluster end: its power was measured by rays (measureOverlap)
+  bool capped = false;    // the oracle wanted it split and a memory budget kept it (capRound)
   // Between a push/pull and the next gather (when E is not read), E may hold the extension's share of
   // the sender's value toward an element receiver (SolverState::senderValue): 1 computed while the
   // sender was a leaf element or a cluster, 2 while it was an inner element; 0 none. In the padding:
@@ -44,7 +45,7 @@ struct Link {
   std::int8_t seen[4][2] = {};
 };
 
-static_assert(sizeof(Link) <= 100, "a link's size is most of a solve's memory: keep extCache in the padding");
+static_assert(sizeof(Link) <= 100, "a link's size is most of a solve's memory: keep extCache and capped in the padding");
 
 /// An element's in-plane axes, along its first edge and across it: the frame of its radiosity
 /// gradient (SolverState::gradU, gradV) and of the links' `seen` offsets.
@@ -167,6 +168,8 @@ struct SolverState {
   void allocateTables();
   /// A cluster's Lambertian exitant intensity toward unit dir, W/sr.
   Rgb clusterIntensity(std::uint32_t c, const Vec3& dir) const;
+  /// A cluster's Lambertian exitant power, W (its patches' radiosity times their open areas).
+  Rgb clusterPower(std::uint32_t c) const;
 
   /// Sizes the per-element arrays after subdivision; a new child starts with its parent's values
   /// so that refinement does not perturb the solution.
@@ -220,10 +223,13 @@ double catchingArea(const SolverState& s, const Link& l);
 /// number of rays traced. Thread-safe (reads the state, writes only the link).
 int evaluateLink(const SolverState& s, Link& l);
 
-/// Whether a kept link needs measureOverlap: an element sender, a cluster receiver and bounding
-/// spheres that overlap, (r_s + r_r) / d >= 1, not yet measured.
+/// Whether a kept link needs measureOverlap: bounding spheres that overlap, (r_s + r_r) / d >= 1,
+/// and an element sender with a cluster receiver (once), or a cluster sender whose link a memory
+/// budget kept against the oracle (at every refinement pass, as what its patches send changes; the
+/// oracle keeps others only when all the sender sends is under the threshold).
 inline bool needsMeasure(const Link& l) {
-  return !l.measured && !l.sender.isCluster() && l.receiver.isCluster() && l.geom >= 1.0f;
+  if (l.geom < 1.0f) return false;
+  return l.sender.isCluster() ? l.capped : l.receiver.isCluster() && !l.measured;
 }
 /// Replaces such a link's far-field coefficient by one that carries the power its sender really sends
 /// into the cluster, from cosine-distributed rays (transfer.cpp). Returns the rays traced.

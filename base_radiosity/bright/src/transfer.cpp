@@ -328,6 +328,19 @@ int evaluateLink(const SolverState& s, Link& l) {
 /// sender's power, itself under the threshold when the link is kept, and unbiased.
 constexpr int kOverlapRays = 64;
 
+/// Whether point x of a convex polygon's plane lies inside it (edges within a relative 1e-9), for
+/// either winding.
+bool insideConvex(const Polygon& poly, const Vec3& x) {
+  const Vec3 normal = poly.areaVector();
+  const double tol = 1e-9 * poly.radius() * poly.radius() * glm::length(normal);
+  for (int k = 0; k < poly.n; ++k) {
+    const Vec3& a = poly.v[k];
+    const Vec3& b = poly.v[(k + 1) % poly.n];
+    if (glm::dot(glm::cross(b - a, x - a), normal) < -tol) return false;
+  }
+  return true;
+}
+
 int measureOverlap(const SolverState& s, Link& l) {
   // A far-field link (transfer over the squared distance between centres) whose nodes overlap means
   // nothing: the sender may lie inside its receiver cluster, whose centre may be behind it (no light
@@ -339,32 +352,88 @@ int measureOverlap(const SolverState& s, Link& l) {
   // rays that reach the front of a patch in the cluster, F A_s times the sender's radiosity, spread
   // over the cluster as any cluster link spreads its light (E_perp max(0, n.w), push_pull.cpp): its
   // placement stays the oracle's, under the threshold; its power is now right up to the rays' noise.
+  // A cluster sender overlapping its receiver is the same far-field model at its worst, and the
+  // oracle splits such a link unless all the cluster sends is under the threshold; but a memory
+  // budget may keep it against the oracle (capRound), and then 1 / d^2 between centres 1 m apart
+  // for clusters 1.5 m in radius handed the cluster of a room's floor 1.75 times the power of the
+  // ceiling's, and a small glossy room under a tight budget created 7-10 % of its light. Such a link
+  // carries F times the cluster's power the same way (SolverState::hostValue), F from rays leaving
+  // its patches in proportion to their power when measured (their area while all are dark),
+  // measured again at every refinement pass that keeps it so, since what its patches send changes.
+  // An element receiver inside the sender's sphere (a ceiling and the cluster of the room under
+  // it) takes F of the cluster's power over its open area.
   l.measured = true;
-  const Element& se = s.h.element(l.sender.index());
-  const Cluster& c = s.h.cluster(l.receiver.index());
   const Vec3 w = glm::normalize(Vec3(l.dir));
   double projected = 0.0;  // sum of A max(0, n.w) over the cluster's patches: E_perp to power
-  for (std::uint32_t i = c.patchBegin; i < c.patchEnd; ++i) {
-    // Over open areas: light reaches a patch partly under a coplanar cover only there.
-    const std::uint32_t q = s.h.patchOrder()[i];  // the root element of patch q has index q
-    projected += s.openArea(q) * std::max(0.0, glm::dot(s.h.patches()[q].normal, w));
+  if (l.receiver.isCluster()) {
+    const Cluster& c = s.h.cluster(l.receiver.index());
+    for (std::uint32_t i = c.patchBegin; i < c.patchEnd; ++i) {
+      // Over open areas: light reaches a patch partly under a coplanar cover only there.
+      const std::uint32_t q = s.h.patchOrder()[i];  // the root element of patch q has index q
+      projected += s.openArea(q) * std::max(0.0, glm::dot(s.h.patches()[q].normal, w));
+    }
+  } else {
+    projected = s.openArea(l.receiver.index());  // irradiance over the open part, as any link's
   }
+  // Whether a ray that hit the front of a patch reached the receiver.
+  auto reaches = [&](const Vec3& o, const Vec3& d, const SurfaceHit& hit) {
+    if (l.receiver.isCluster()) {
+      const Cluster& c = s.h.cluster(l.receiver.index());
+      const std::uint32_t at = s.patchPos[hit.patch];
+      return at >= c.patchBegin && at < c.patchEnd;
+    }
+    const Element& re = s.h.element(l.receiver.index());
+    return hit.patch == re.patch && insideConvex(re.poly, o + hit.t * d);
+  };
   Rng rng(s.opt.seed ^ 0x0E7A9ull, l.sender.value, l.receiver.value);
-  Vec3 u, v;
-  audit::tangentFrame(se.normal, u, v);
+  // Where rays leave: the element, or the sender cluster's patches by power (cumulative weights).
+  std::vector<std::uint32_t> from;
+  std::vector<double> cdf;
+  if (l.sender.isCluster()) {
+    const Cluster& sc = s.h.cluster(l.sender.index());
+    double sum = 0.0, area = 0.0;
+    for (std::uint32_t i = sc.patchBegin; i < sc.patchEnd; ++i) sum += luminance(s.B[s.h.patchOrder()[i]]) * s.openArea(s.h.patchOrder()[i]);
+    for (std::uint32_t i = sc.patchBegin; i < sc.patchEnd; ++i) {
+      const std::uint32_t q = s.h.patchOrder()[i];
+      const double wq = sum > 0.0 ? luminance(s.B[q]) * s.openArea(q) : s.openArea(q);
+      if (!(wq > 0.0)) continue;
+      from.push_back(q);
+      cdf.push_back(area += wq);
+    }
+    if (from.empty()) {
+      l.coef = 0.0f;
+      return 0;
+    }
+  }
   const double shift = rng.uniform();
   int hits = 0;
   for (int k = 0; k < kOverlapRays; ++k) {
-    const Vec3 o = se.poly.sample(rng.uniform(), rng.uniform());
-    const Vec3 d = audit::latticeCosineDirection(se.normal, u, v, shift, k, kOverlapRays, rng.uniform());
-    if (s.vis.coverOf(se.patch, o) != kNone) continue;  // under a coplanar patch: nothing leaves
-    const SurfaceHit hit = s.vis.intersectFrom(o, d, se.patch);
+    std::uint32_t patch;
+    Vec3 o, n;
+    if (l.sender.isCluster()) {
+      const double x = rng.uniform() * cdf.back();
+      const std::size_t j = std::min<std::size_t>(std::size_t(std::upper_bound(cdf.begin(), cdf.end(), x) - cdf.begin()), from.size() - 1);
+      patch = from[j];
+      n = s.h.patches()[patch].normal;
+      o = s.h.patches()[patch].poly.sample(rng.uniform(), rng.uniform());
+    } else {
+      const Element& se = s.h.element(l.sender.index());
+      patch = se.patch, n = se.normal;
+      o = se.poly.sample(rng.uniform(), rng.uniform());
+    }
+    Vec3 u, v;
+    audit::tangentFrame(n, u, v);
+    const Vec3 d = audit::latticeCosineDirection(n, u, v, shift, k, kOverlapRays, rng.uniform());
+    if (s.vis.coverOf(patch, o) != kNone) continue;  // under a coplanar patch: nothing leaves
+    const SurfaceHit hit = s.vis.intersectFrom(o, d, patch);
     if (!hit.hit || glm::dot(s.h.patches()[hit.patch].normal, d) >= 0.0) continue;
-    const std::uint32_t at = s.patchPos[hit.patch];
-    hits += at >= c.patchBegin && at < c.patchEnd ? 1 : 0;
+    hits += reaches(o, d, hit) ? 1 : 0;
   }
   const double F = double(hits) / kOverlapRays;
-  l.coef = projected > 0.0 ? static_cast<float>(F * se.area / projected) : 0.0f;
+  // The sender's quantity on a measured link: radiosity for an element (F A_s of it arrives), and
+  // for a cluster its power over 4 pi (SolverState::hostValue; 4 pi F of it arrives).
+  const double per = l.sender.isCluster() ? 4.0 * kPi : s.h.element(l.sender.index()).area;
+  l.coef = projected > 0.0 ? static_cast<float>(F * per / projected) : 0.0f;
   return kOverlapRays;
 }
 

@@ -34,6 +34,9 @@ struct SolverOptions {
   /// TEST ONLY: a shooting pass's push/pull visits every subtree, not only those the pass changed:
   /// the answer the pruned push must equal bit for bit.
   bool testOnlyPushEverything = false;
+  /// TEST ONLY: every refinement round is capped at this many links, as a memory budget caps it
+  /// (capRound), with no machine in the loop, so that a capped solve repeats exactly. 0: no cap.
+  std::size_t testOnlyMaxLinks = 0;
   std::uint64_t seed = 1;
   Iteration iteration = Iteration::Gather;
   /// Shooting: a patch shoots in a pass when its unshot power is at least this fraction of the
