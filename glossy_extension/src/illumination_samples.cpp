@@ -331,6 +331,7 @@ void IlluminationSamples::reflectShot(hr::NodeId leaf, std::span<const hr::Incid
 }
 
 void IlluminationSamples::shot(hr::NodeId node) {
+  shooting_.store(true, std::memory_order_relaxed);
   auto* u = slot(unshotElements_, unshotClusters_, node);
   if (!u || !view_) return;
   u->reset();
@@ -417,7 +418,13 @@ void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> chil
   if (!changed) return;
   std::vector<const NodeLight*> total, unshot;
   for (hr::NodeId c : children) total.push_back(light(c)), unshot.push_back(unshotLight(c));
-  *s = sum(node, total);
+  // While shooting a host reads only the unshot light above the leaves (hr/extension.h, pull): the
+  // total there would be a second Haar sum per node and pass that nothing reads (on the glossy
+  // sphere, half of a shooting solve's pull).
+  if (shooting_.load(std::memory_order_relaxed))
+    s->reset();
+  else
+    *s = sum(node, total);
   *u = sum(node, unshot);
   touch(node);
   Counters::add(counters_->pullCalls, 1);

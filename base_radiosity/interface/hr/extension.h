@@ -121,8 +121,9 @@ class Extension {
   virtual bool reflectShared(NodeId /*element*/, std::span<const IncidentSample>) { return false; }
 
   // Push/pull: children before parents, concurrent across disjoint subtrees.
-  /// An inner element or cluster above simulated leaves: its exitant light (total, and unshot while
-  /// shooting) from its children's.
+  /// An inner element or cluster above simulated leaves: its exitant light from its children's, the
+  /// total while gathering, the unshot light while shooting (a shooting host reads no other light
+  /// above the leaves, so an extension need keep no total there).
   virtual void pull(NodeId /*node*/, std::span<const NodeId> /*children*/) {}
   /// After the pull: how much the extension's exitant power changed this iteration, W (luminance).
   virtual double powerChange() const { return 0.0; }

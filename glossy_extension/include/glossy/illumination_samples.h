@@ -7,9 +7,10 @@
 // - pull: inner elements and clusters hold the sum of their children's distributions (Haar trees
 //   re-projected with the same refiner so that sums do not grow into unions; power exact);
 // - sending, the oracle, the energy audit, display and the solution file read those distributions.
-// - shooting (§3.4): beside the total light every node keeps its unshot light; reflectShot adds a
-//   pass's reflection to both, shot() clears a shooter's unshot light, pull sums both, and a node
-//   whose children did not change since the last pull keeps what it has.
+// - shooting (§3.4): beside the total light every leaf keeps its unshot light; reflectShot adds a
+//   pass's reflection to both, shot() clears a shooter's unshot light, pull sums the unshot light
+//   (the only light hosts read above the leaves while shooting), and a node whose children did not
+//   change since the last pull keeps what it has.
 // Planar nodes keep Haar distributions in their own frame (normal = +z), so the horizon is a cell
 // boundary; clusters keep theirs in the world frame. With --basis auto each glossy material has its own
 // basis (basis_rule.h); a node above surfaces of different bases holds one sum per basis (NodeLight::more). Per-node data live in side tables indexed by
@@ -149,6 +150,7 @@ class IlluminationSamples : public hr::Extension {
   const hr::HostView* view_ = nullptr;
   Table elements_, clusters_;
   Table unshotElements_, unshotClusters_;     // shooting only
+  std::atomic<bool> shooting_{false};         // a shot() came: pull keeps no total above the leaves
   std::vector<std::uint8_t> dirtyElements_, dirtyClusters_;  // changed since the parent's last pull
   std::vector<Rgb> change_;  // per element, W: |power change| of the latest reflect (leaves)
   // Reflection in layers (reflectShared): per inner element that took its samples this sweep, the cell
