@@ -237,9 +237,11 @@ class PushPull {
     if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
         if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
-    // Gathering: an inner element offers what reached it to the extension, which may reflect it once
-    // for every leaf below (Extension::reflectShared); taken samples are not carried further down.
-    if (samples && carry_ && !shoot_ && !el.leaf() && s_.ext->reflectShared(NodeId{e}, *samples)) samples->clear(), mark = 0;
+    // An inner element offers what reached it to the extension, which may reflect it once for every
+    // leaf below (Extension::reflectShared); taken samples are not carried further down. A shooting
+    // batch re-offers every inner element on its way down, so a layer of an earlier batch is never
+    // read by a later one.
+    if (samples && carry_ && !el.leaf() && s_.ext->reflectShared(NodeId{e}, *samples)) samples->clear(), mark = 0;
     Pulled result;
     if (el.leaf()) {
       if (shoot_) {
@@ -252,7 +254,8 @@ class PushPull {
         s_.B[e] = s_.emitted(e) + s_.mat(e).diffuse * total;
       }
       s_.Bmin[e] = s_.Bmax[e] = static_cast<float>(luminance(s_.B[e]));
-      if (samples && shoot_ && !samples->empty()) s_.ext->reflectShot(NodeId{e}, *samples);
+      // Called with no samples too: an ancestor may have taken them into its layer.
+      if (samples && shoot_ && carry_) s_.ext->reflectShot(NodeId{e}, *samples);
       if (samples && !shoot_) s_.ext->reflect(NodeId{e}, *samples);
       // Radiosity is the open part's (SolverState::open): so is the power.
       result.power = s_.B[e] * s_.openArea(e);
