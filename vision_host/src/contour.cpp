@@ -34,37 +34,78 @@ double diskFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec
   return area * cy * cx / (hr::kPi * (r2 * r2 + area * r2 / hr::kPi));
 }
 
-constexpr int kMaxSplits = 4;  // pieces down to 4^-4 of the sender's parameter area
 constexpr int kProbe = 3;      // probes per parameter direction, edges included
 constexpr double kSmall = 0.01;  // a piece of area below this times its squared distance: one point
 
 }  // namespace
 
-double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n, int depth) {
+double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n) {
+  return CurvedPieces(sf, r).formFactor(x, n);
+}
+
+CurvedPieces::CurvedPieces(const Surface& sf, const Rect& r) : sf_(sf), r_(r) {}
+
+Rect CurvedPieces::rectOf(int depth, int i, int j) const {
+  const int s = kN >> depth;
+  auto at = [](double a, double b, int k) { return a + (b - a) * (double(k) / kN); };
+  return Rect{at(r_.u0, r_.u1, i * s), at(r_.u0, r_.u1, (i + 1) * s), at(r_.v0, r_.v1, j * s), at(r_.v0, r_.v1, (j + 1) * s)};
+}
+
+std::size_t CurvedPieces::probe(int i, int j) {
+  if (slot_.empty()) slot_.assign(std::size_t(kN + 1) * (kN + 1), -1);
+  std::int32_t& k = slot_[std::size_t(i) * (kN + 1) + std::size_t(j)];
+  if (k < 0) {
+    const double u = r_.u0 + r_.du() * (double(i) / kN), v = r_.v0 + r_.dv() * (double(j) / kN);
+    k = std::int32_t(p_.size());
+    p_.push_back(sf_.point(u, v));
+    n_.push_back(sf_.normal(u, v));
+  }
+  return std::size_t(k);
+}
+
+bool CurvedPieces::topFaces(const Vec3& x, double tol) {
+  constexpr int h = kN / 2;
+  for (int a = 0; a <= 2; ++a)
+    for (int b = 0; b <= 2; ++b) {
+      const std::size_t k = probe(a * h, b * h);
+      if (glm::dot(n_[k], x - p_[k]) < -tol) return false;
+    }
+  return true;
+}
+
+double CurvedPieces::piece(int depth, int i, int j, const Vec3& x, const Vec3& n) {
   // Probe the piece: where every probe faces x from above x's horizon the contour integral is exact;
   // where none does the piece sends nothing to x (its facing part, if any, lies between probes and
-  // is smaller than a probe cell); a piece across the terminator or the horizon is split.
+  // is smaller than a probe cell); a piece across the terminator or the horizon is split. A piece at
+  // depth d has its probes (corners, edge midpoints, centre) on the lattice of spacing
+  // 2^-(kMaxSplits + 1), where the other pieces and the other points find them made.
+  const int s = kN >> depth, h = s / 2;
   const double tol = 1e-12 * (1.0 + glm::length(x));
   int facing = 0;
-  for (int i = 0; i < kProbe; ++i)
-    for (int j = 0; j < kProbe; ++j) {
-      const double u = r.u0 + r.du() * i / (kProbe - 1), v = r.v0 + r.dv() * j / (kProbe - 1);
-      const Vec3 y = sf.point(u, v);
-      facing += glm::dot(sf.normal(u, v), x - y) >= -tol && glm::dot(n, y - x) >= -tol ? 1 : 0;
+  for (int a = 0; a <= 2; ++a)
+    for (int b = 0; b <= 2; ++b) {
+      const std::size_t k = probe(i * s + a * h, j * s + b * h);
+      facing += glm::dot(n_[k], x - p_[k]) >= -tol && glm::dot(n, p_[k] - x) >= -tol ? 1 : 0;
     }
   if (facing == 0) return 0.0;
+  const Rect r = rectOf(depth, i, j);
   if (facing == kProbe * kProbe) {
-    thread_local std::vector<Vec3> pts;
-    outline(sf, r, pts);
-    return contourFormFactor(x, n, pts, true);  // clipped: chords may dip below the horizon
+    const std::size_t id = std::size_t(((1 << (2 * depth)) - 1) / 3) + std::size_t(i) * (std::size_t(1) << depth) + std::size_t(j);
+    if (outlineSlot_.empty()) outlineSlot_.assign(std::size_t(((1 << (2 * (kMaxSplits + 1))) - 1) / 3), -1);
+    std::int32_t& o = outlineSlot_[id];
+    if (o < 0) {
+      o = std::int32_t(outlines_.size());
+      outlines_.emplace_back();
+      outline(sf_, r, outlines_.back());
+    }
+    return contourFormFactor(x, n, outlines_[std::size_t(o)], true);  // clipped: chords may dip below the horizon
   }
+  const std::size_t c = probe(i * s + h, j * s + h);
+  const Vec3 d = x - p_[c];
   const double um = 0.5 * (r.u0 + r.u1), vm = 0.5 * (r.v0 + r.v1);
-  const Vec3 d = x - sf.point(um, vm);
-  if (depth >= kMaxSplits || sf.jacobian(um, vm) * r.du() * r.dv() < kSmall * glm::dot(d, d)) return diskFormFactor(sf, r, x, n);
+  if (depth >= kMaxSplits || sf_.jacobian(um, vm) * r.du() * r.dv() < kSmall * glm::dot(d, d)) return diskFormFactor(sf_, r, x, n);
   double sum = 0.0;
-  for (int k = 0; k < 4; ++k)
-    sum += curvedFormFactor(sf, Rect{(k & 1) ? um : r.u0, (k & 1) ? r.u1 : um, (k & 2) ? vm : r.v0, (k & 2) ? r.v1 : vm}, x, n,
-                            depth + 1);
+  for (int k = 0; k < 4; ++k) sum += piece(depth + 1, 2 * i + (k & 1), 2 * j + ((k >> 1) & 1), x, n);
   return sum;
 }
 

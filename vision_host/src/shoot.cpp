@@ -203,6 +203,7 @@ class Shot {
     const double limit = s_.threshold * std::max(rg.area / std::max(s_.h.totalArea(), 1e-300), kAreaFloor);
     std::vector<Sender> down;
     std::vector<Pending> held;  // accepted element-to-element interactions, placed by settle()
+    ReceiverPoints points;      // r's quadrature points, for all its senders
     while (!work.empty()) {
       Sender x = std::move(work.back());
       work.pop_back();
@@ -222,7 +223,7 @@ class Shot {
       }
       const bool xSplits = canSplit(x);
       if (gap <= limit || (!xSplits && !rSplits)) {
-        const Estimate est = estimate(s_, x, r);
+        const Estimate est = estimate(s_, x, r, &points);
         ++count_;
         // Visibility widens the gap: a shadow boundary across the pair misplaces up to the smaller of
         // its lit and its hidden part; too few agreeing rays leave the fraction itself uncertain.

@@ -106,7 +106,31 @@ Geometry pointGeometry(const Vec3& x, const Vec3& n);
 double contourFormFactor(const Vec3& x, const Vec3& n, const std::vector<Vec3>& pts, bool clip);
 /// Form factor from a differential area at x (normal n) to a rectangle of a curved surface that x may
 /// see only in part: split until each piece faces x wholly (contour) or not at all.
-double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n, int depth = 0);
+double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n);
+/// Pieces down to 4^-kMaxSplits of the rectangle's parameter area.
+constexpr int kMaxSplits = 4;
+/// curvedFormFactor for one curved sender seen from many points (the receiver's quadrature points):
+/// its probes (points and normals on a lattice of the rectangle) and the outlines of its pieces
+/// are made on first use and kept. Surface maps cost sines and cosines, and probing the same
+/// pieces again for every point was half of a shot on the Soda Shoppe. One thread, one estimate.
+class CurvedPieces {
+ public:
+  CurvedPieces(const Surface& sf, const Rect& r);
+  double formFactor(const Vec3& x, const Vec3& n) { return piece(0, 0, 0, x, n); }
+  /// Whether the rectangle's corners, edge midpoints and centre all face x (within tol).
+  bool topFaces(const Vec3& x, double tol);
+
+ private:
+  static constexpr int kN = 2 << kMaxSplits;  // lattice intervals per side: every probe of every piece
+  double piece(int depth, int i, int j, const Vec3& x, const Vec3& n);
+  Rect rectOf(int depth, int i, int j) const;
+  std::size_t probe(int i, int j);
+  const Surface& sf_;
+  Rect r_;
+  std::vector<std::int32_t> slot_, outlineSlot_;  // lattice point / piece -> its place, -1 not made
+  std::vector<Vec3> p_, n_;
+  std::vector<std::vector<Vec3>> outlines_;
+};
 /// The same for x on a concave surface at (u, v) inside the rectangle r of that surface.
 double insideFormFactor(const Surface& sf, const Rect& r, double u, double v, const Vec3& x, const Vec3& n);
 /// The outline of a rectangle of a surface, counter-clockwise about its front, curved edges as
@@ -146,7 +170,18 @@ struct Estimate {
   bool quarters = false;
   double quarterF[4] = {0.0, 0.0, 0.0, 0.0};
 };
-Estimate estimate(const State& s, const Sender& snd, const Receiver& r);
+/// An element receiver's quadrature points for estimate(): position, normal and Jacobian weight at
+/// Gauss-Legendre nodes (3 x 3 for far senders, 5 x 5 for near ones), made on first use and kept for
+/// the receiver's other senders (surface maps cost sines and cosines: most of a shot's time).
+struct ReceiverPoints {
+  struct Grid {
+    bool made = false;
+    std::vector<Vec3> p, n;
+    std::vector<double> w;  // Gauss weight times Jacobian
+  };
+  Grid grid[2];  // 3 x 3, 5 x 5
+};
+Estimate estimate(const State& s, const Sender& snd, const Receiver& r, ReceiverPoints* points = nullptr);
 
 // shoot.cpp
 /// One shot: every node's unshot light to every receiver, interactions derived top-down and not

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "state.h"
 
@@ -40,7 +41,9 @@ std::uint64_t keyOf(const Receiver& r) { return r.cluster != hr::kNone ? hr::mix
 
 class PointToSender {
  public:
-  PointToSender(const State& s, const Sender& snd) : sf_(s.h.surfaces()[snd.e->surface]), rect_(snd.rect) {
+  PointToSender(const State& s, const Sender& snd)
+      : sf_(s.h.surfaces()[snd.e->surface]), rect_(snd.rect) {
+    if (!sf_.planar()) curved_.emplace(sf_, rect_);
     outline(sf_, rect_, pts_);
     if (!sf_.planar())
       for (int i = 0; i < 3; ++i)
@@ -62,21 +65,16 @@ class PointToSender {
     for (std::size_t k = 0; ok && k < pts_.size(); ++k) ok = glm::dot(n, pts_[k] - x) >= -tol;
     for (std::size_t k = 0; ok && k < inner_.size(); ++k) ok = faces(inner_[k], innerN_[k]);
     if (ok) ok = outlineFaces(x, tol);
-    return ok ? contourFormFactor(x, n, pts_, false) : curvedFormFactor(sf_, rect_, x, n);
+    return ok ? contourFormFactor(x, n, pts_, false) : curved_->formFactor(x, n);
   }
 
  private:
   /// The outline's own points face x too (their normals from the parameter values of the corners
-  /// and edge midpoints; enough for elements whose cone of normals is narrow).
-  bool outlineFaces(const Vec3& x, double tol) const {
-    const double us[3] = {rect_.u0, 0.5 * (rect_.u0 + rect_.u1), rect_.u1}, vs[3] = {rect_.v0, 0.5 * (rect_.v0 + rect_.v1), rect_.v1};
-    for (double u : us)
-      for (double v : vs)
-        if (glm::dot(sf_.normal(u, v), x - sf_.point(u, v)) < -tol) return false;
-    return true;
-  }
+  /// and edge midpoints, the probes; enough for elements whose cone of normals is narrow).
+  bool outlineFaces(const Vec3& x, double tol) const { return curved_->topFaces(x, tol); }
   const Surface& sf_;
   Rect rect_;
+  mutable std::optional<CurvedPieces> curved_;  // curved senders: probes and pieces, made as needed
   std::vector<Vec3> pts_, inner_, innerN_;
 };
 
@@ -151,7 +149,29 @@ double sigmaOf(const RayCount& c) {
 
 }  // namespace
 
-Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
+namespace {
+
+/// The receiver's quadrature grid of m x m points (m 3 or 5), from the cache when there is one.
+const ReceiverPoints::Grid& gridOf(const Surface& rs, const Rect& r, int m, ReceiverPoints* cache, ReceiverPoints::Grid& local) {
+  ReceiverPoints::Grid& g = cache ? cache->grid[m == 5 ? 1 : 0] : local;
+  if (g.made) return g;
+  const double* node = m == 5 ? kGauss5 : kGauss3;
+  const double* wt = m == 5 ? kWeight5 : kWeight3;
+  g.p.clear(), g.n.clear(), g.w.clear();
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = r.u0 + node[i] * r.du(), v = r.v0 + node[j] * r.dv();
+      g.w.push_back(wt[i] * wt[j] * rs.jacobian(u, v));
+      g.p.push_back(rs.point(u, v));
+      g.n.push_back(rs.normal(u, v));
+    }
+  g.made = true;
+  return g;
+}
+
+}  // namespace
+
+Estimate estimate(const State& s, const Sender& snd, const Receiver& rc, ReceiverPoints* points) {
   const Geometry& rg = rc.g(s.h);
   Estimate est;
   Vec3 d = snd.g.center - rg.center;
@@ -168,16 +188,19 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc) {
     const bool near = dist <= 0.0 || (snd.g.radius + rg.radius) > 0.5 * dist;
     const int m = near ? 5 : 3;
     const double* node = near ? kGauss5 : kGauss3;
-    const double* wt = near ? kWeight5 : kWeight3;
+    ReceiverPoints::Grid local;
+    const ReceiverPoints::Grid& grid = gridOf(rs, r, m, points, local);
     double fsum = 0.0, asum = 0.0, qf[4] = {0.0, 0.0, 0.0, 0.0}, qa[4] = {0.0, 0.0, 0.0, 0.0};
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) {
         double u = r.u0 + node[i] * r.du(), v = r.v0 + node[j] * r.dv();
-        double wq = wt[i] * wt[j] * rs.jacobian(u, v);
+        const double wq = grid.w[std::size_t(i * m + j)];
+        const Vec3& x = grid.p[std::size_t(i * m + j)];
+        const Vec3& xn = grid.n[std::size_t(i * m + j)];
         // A point of a concave surface inside the sender's own rectangle (an element lighting
         // itself or a part of itself) is enclosed by the sender's outline: see insideFormFactor.
         const bool inside = self && u > snd.rect.u0 && u < snd.rect.u1 && v > snd.rect.v0 && v < snd.rect.v1;
-        const double f = inside ? insideFormFactor(rs, snd.rect, u, v, rs.point(u, v), rs.normal(u, v)) : F(rs.point(u, v), rs.normal(u, v));
+        const double f = inside ? insideFormFactor(rs, snd.rect, u, v, x, xn) : F(x, xn);
         fsum += wq * f;
         asum += wq;
         // Quarters of the receiver's parameter rectangle; a point on a mid-line counts half to each.
