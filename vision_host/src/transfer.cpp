@@ -41,17 +41,16 @@ std::uint64_t keyOf(const Receiver& r) { return r.cluster != hr::kNone ? hr::mix
 
 class PointToSender {
  public:
-  PointToSender(const State& s, const Sender& snd)
-      : sf_(s.h.surfaces()[snd.e->surface]), rect_(snd.rect) {
-    if (!sf_.planar()) curved_.emplace(sf_, rect_);
+  PointToSender(const State& s, const Sender& snd) : sf_(s.h.surfaces()[snd.e->surface]), rect_(snd.rect) {
     outline(sf_, rect_, pts_);
-    if (!sf_.planar())
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          double u = rect_.u0 + kGauss3[i] * rect_.du(), v = rect_.v0 + kGauss3[j] * rect_.dv();
-          inner_.push_back(sf_.point(u, v));
-          innerN_.push_back(sf_.normal(u, v));
-        }
+    if (sf_.planar()) return;
+    curved_.emplace(sf_, rect_);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double u = rect_.u0 + kGauss3[i] * rect_.du(), v = rect_.v0 + kGauss3[j] * rect_.dv();
+        inner_.push_back(sf_.point(u, v));
+        innerN_.push_back(sf_.normal(u, v));
+      }
   }
   double operator()(const Vec3& x, const Vec3& n) const {
     if (sf_.planar()) {

@@ -93,11 +93,7 @@ Rgb SolverState::extensionShare(const Link& l) const {
   // element receiver it is the mean over the receiver's solid angle (Extension::meanIntensity):
   // a value toward a few points aliased against a narrow lobe, and a spot came out 7 % dark.
   if (!l.sender.isCluster() && !l.receiver.isCluster() && !farField(l)) return extensionNearField(l);
-  if (l.measured && l.sender.isCluster()) {  // the host's unit there: power over 4 pi (hostValue)
-    const Rgb p = ext->totalPower(l.sender);
-    return allFinite(p) ? glm::max(p, Rgb(0.0)) / (4.0 * kPi) : Rgb(0.0);
-  }
-  if (l.measured) return extensionPowerPerArea(l.sender.index());
+  if (l.measured) return extensionMeasured(l);
   const Vec3 toRecv = -Vec3(l.dir);
   Rgb I = l.receiver.isCluster() ? extIntensity(l.sender, toRecv) : extensionOverReceiver(l);
   if (l.sender.isCluster()) return I;
@@ -118,7 +114,7 @@ Rgb SolverState::senderValue(Link& l) const {
   return hostValue(l) + Rgb(l.E);
 }
 
-Rgb SolverState::extensionPowerPerArea(std::uint32_t e) const {
+Rgb SolverState::extensionMeasured(const Link& l) const {
   // An overlapping element-to-cluster link (measureOverlap) carries the fraction F of the sender's
   // cosine-distributed rays that reach the cluster, times A_s and the value: for the host's
   // Lambertian light that is F times its power. The extension's share as elsewhere, pi I / (A c)
@@ -126,12 +122,12 @@ Rgb SolverState::extensionPowerPerArea(std::uint32_t e) const {
   // mirror's lobe pointed at the centre (the centre can be anywhere, the sender lies inside the
   // cluster) made it 10-40 times the lobe's power, and two stainless discs 5 mm apart in the glossy
   // Soda Shoppe, whose links a memory budget left unrefined, fed each other 4.4 times what they sent
-  // until the solve diverged. So the share is the sender's whole power per area, delivered as its
-  // Lambertian light is: never more than F of it.
-  const NodeId n{e};
-  const Rgb power = shooting ? ext->unshotPower(n) : ext->totalPower(n);
-  const double area = h.element(e).area;
-  return allFinite(power) && area > 0.0 ? glm::max(power, Rgb(0.0)) / area : Rgb(0.0);
+  // until the solve diverged. So the share is the sender's whole power in the link's unit, as the
+  // host's own value on such a link (hostValue): per area for an element, over 4 pi for a cluster;
+  // delivered as its Lambertian light is, never more than F of it.
+  const Rgb power = shooting ? ext->unshotPower(l.sender) : ext->totalPower(l.sender);
+  const double per = l.sender.isCluster() ? 4.0 * kPi : h.element(l.sender.index()).area;
+  return allFinite(power) && per > 0.0 ? glm::max(power, Rgb(0.0)) / per : Rgb(0.0);
 }
 
 /// (r_s + r_r) / d below which a glossy sender's light is averaged over its receiver.

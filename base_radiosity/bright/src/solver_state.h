@@ -187,9 +187,10 @@ struct SolverState {
   Rgb hostValue(const Link& l) const;
   /// The extension's share of senderValue (zero without one or for a sender it does not simulate).
   Rgb extensionShare(const Link& l) const;
-  /// The extension's exitant power of element e per its area, W/m^2: its share on an overlapping
-  /// (measured) link, where a direction toward the receiver's centre means nothing.
-  Rgb extensionPowerPerArea(std::uint32_t e) const;
+  /// The extension's share on an overlapping (measured) link, where a direction toward the
+  /// receiver's centre means nothing: its sender's exitant power per area (element, W/m^2) or over
+  /// 4 pi (cluster, W/sr), the units of hostValue there.
+  Rgb extensionMeasured(const Link& l) const;
   /// The extension's intensity of the link's sender averaged over directions to an element
   /// receiver, W/sr.
   Rgb extensionOverReceiver(const Link& l) const;
