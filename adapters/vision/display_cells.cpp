@@ -1,76 +1,87 @@
-// The VISION-like host's display cells for an unchanged extension (see display_cells.h). The cells
-// become children of their leaves in a view that numbers them after the host's H nodes (cell i is
-// node H + i), and the extension's own split hook hands each leaf's light down to them (an intensity
-// in W/sr scales with area). Solution element i is then node H + i for display and the file. The
-// saved section is a small header (magic, H) and the extension's own bytes; loading rebuilds the
-// same numbering over the loaded solution, so `render` and the viewer need nothing of the host.
+// The VISION-like host's display cells for an unchanged extension (see display_cells.h). The
+// solution's elements are cells, not host nodes: cell i shows host leaf cellLeaf[i], and every cell
+// of a leaf shares that leaf's light. The extension is asked for the leaf's radiance as seen at the
+// cell's (or a pixel's) own normal, so a curved leaf's cells show its glossy light turned with the
+// surface (hr/extension.h, radiance with a normal) without a copy or a re-projection per cell.
+// The saved section is a header (magic, H, each cell's leaf, the shown leaves' area, normal and
+// material) and the extension's own bytes for those leaves; loading rebuilds a view of just those
+// leaves, so `render` and the viewer need nothing of the host.
 #include "display_cells.h"
 
 #include <hr/solution_view.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
-#include <ostream>
 #include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
 
 namespace adapters::vision {
 namespace {
 
-constexpr std::uint32_t kMagic = 0x43534956u;  // "VISC"
+constexpr std::uint32_t kMagic = 0x32534956u;  // "VIS2": cells share their leaf's light
+constexpr std::uint32_t kOldMagic = 0x43534956u;  // "VISC": a copy per cell (before 2026-12-03)
 constexpr const char* kWhat = "solution file, section of the extension on the VISION-like host";
 
-/// Nodes 0..H-1: the host's (none of them a leaf of the display); H + i: solution element i. The
-/// cells are read from a view of the solution (loading), or copied from one (solving: the solution
-/// may move before the outputs are written).
-class CellView final : public hr::HostView {
+[[noreturn]] void refuse(const std::string& why) { throw hr::InputError(std::string(kWhat) + ": " + why); }
+
+void put32(std::ostream& out, std::uint32_t v) {
+  char b[4];
+  for (int k = 0; k < 4; ++k) b[k] = char((v >> (8 * k)) & 0xFF);
+  out.write(b, 4);
+}
+void put64(std::ostream& out, double x) {
+  std::uint64_t v;
+  std::memcpy(&v, &x, 8);
+  char b[8];
+  for (int k = 0; k < 8; ++k) b[k] = char((v >> (8 * k)) & 0xFF);
+  out.write(b, 8);
+}
+
+/// Little-endian reads that refuse past the end of the section.
+struct Reader {
+  std::string_view b;
+  std::size_t at = 0;
+  std::uint64_t raw(int n) {
+    if (b.size() - at < std::size_t(n)) refuse("truncated");
+    std::uint64_t v = 0;
+    for (int k = 0; k < n; ++k) v |= std::uint64_t(static_cast<unsigned char>(b[at + std::size_t(k)])) << (8 * k);
+    at += std::size_t(n);
+    return v;
+  }
+  std::uint32_t u32() { return std::uint32_t(raw(4)); }
+  double f64() {
+    std::uint64_t v = raw(8);
+    double x;
+    std::memcpy(&x, &v, 8);
+    return x;
+  }
+};
+
+/// What a loaded solution knows of the host: the leaves its cells show (0..H-1, most of them
+/// absent), each as the one-normal leaf the extension reflected it as; materials are the solution's.
+class LeafView final : public hr::HostView {
  public:
-  CellView(const hr::HostView* host, const hr::HostView& cells, std::uint32_t H, bool copy) : host_(host), cells_(&cells), H_(H) {
-    if (!copy) return;
-    for (std::uint32_t i = 0; i < cells.elementCount(); ++i) info_.push_back(cells.info(hr::NodeId{i}));
-    for (std::uint32_t m = 0; m < cells.materialCount(); ++m) materials_.push_back(cells.material(m));
-    cells_ = nullptr;
-  }
-  /// The runs of cells of each leaf (cellLeaf: per cell, its leaf; a leaf's cells are consecutive).
-  void setCells(const std::vector<std::uint32_t>& cellLeaf) {
-    first_.assign(H_, hr::kNone), count_.assign(H_, 0);
-    for (std::uint32_t i = 0; i < cellLeaf.size(); ++i) {
-      ids_.push_back(hr::NodeId{H_ + i});
-      const std::uint32_t l = cellLeaf[i];
-      if (l >= H_) throw hr::InputError("display cell " + std::to_string(i) + " names no leaf of the host");
-      if (first_[l] == hr::kNone) first_[l] = i;
-      if (first_[l] + count_[l] != i) throw hr::InputError("the cells of leaf " + std::to_string(l) + " are not consecutive");
-      ++count_[l];
-    }
-  }
-  std::span<const hr::NodeId> cellsOf(std::uint32_t leaf) const {
-    return leaf < first_.size() && count_[leaf] ? std::span<const hr::NodeId>(ids_.data() + first_[leaf], count_[leaf])
-                                                : std::span<const hr::NodeId>();
-  }
-  hr::NodeId root() const override { return host_ ? host_->root() : hr::NodeId{H_}; }
+  LeafView(const hr::HostView& cells, std::uint32_t H, std::vector<std::pair<std::uint32_t, hr::NodeInfo>> leaves)
+      : cells_(cells), H_(H), leaves_(std::move(leaves)) {}
+  hr::NodeId root() const override { return hr::NodeId{0}; }
   hr::NodeInfo info(hr::NodeId n) const override {
-    if (n.isCluster()) return host_ ? host_->info(n) : hr::NodeInfo{};
-    if (n.index() >= H_) return cells_ ? cells_->info(hr::NodeId{n.index() - H_}) : info_.at(n.index() - H_);
-    hr::NodeInfo i = host_ ? host_->info(n) : hr::NodeInfo{};
-    i.leaf = false;  // shown by its cells
-    return i;
+    if (n.isCluster()) return {};
+    auto it = std::lower_bound(leaves_.begin(), leaves_.end(), n.index(), [](const auto& l, std::uint32_t i) { return l.first < i; });
+    return it != leaves_.end() && it->first == n.index() ? it->second : hr::NodeInfo{};
   }
-  std::span<const hr::NodeId> children(hr::NodeId n) const override {
-    if (!n.isCluster() && n.index() >= H_) return {};
-    if (!n.isCluster() && !cellsOf(n.index()).empty()) return cellsOf(n.index());
-    return host_ ? host_->children(n) : std::span<const hr::NodeId>();
-  }
-  std::size_t elementCount() const override { return H_ + (cells_ ? cells_->elementCount() : info_.size()); }
-  std::size_t clusterCount() const override { return host_ ? host_->clusterCount() : 0; }
-  hr::MaterialInfo material(std::uint32_t id) const override { return cells_ ? cells_->material(id) : materials_.at(id); }
-  std::size_t materialCount() const override { return cells_ ? cells_->materialCount() : materials_.size(); }
+  std::span<const hr::NodeId> children(hr::NodeId) const override { return {}; }
+  std::size_t elementCount() const override { return H_; }
+  std::size_t clusterCount() const override { return 0; }
+  hr::MaterialInfo material(std::uint32_t id) const override { return cells_.material(id); }
+  std::size_t materialCount() const override { return cells_.materialCount(); }
 
  private:
-  const hr::HostView* host_;
-  const hr::HostView* cells_;
-  std::vector<hr::NodeInfo> info_;
-  std::vector<hr::MaterialInfo> materials_;
+  const hr::HostView& cells_;  // the loaded solution's view, which outlives the extension
   const std::uint32_t H_;
-  std::vector<std::uint32_t> first_, count_;
-  std::vector<hr::NodeId> ids_;
+  std::vector<std::pair<std::uint32_t, hr::NodeInfo>> leaves_;  // by id
 };
 
 class Adapter final : public hr::Extension {
@@ -78,16 +89,21 @@ class Adapter final : public hr::Extension {
   explicit Adapter(std::unique_ptr<hr::Extension> inner) : in_(std::move(inner)) {}
 
   void show(const hr::HostView& host, const hr::Solution& sol, const std::vector<std::uint32_t>& cellLeaf) {
-    stats_ = in_->stats();  // the solve's figures, not the cells'
     H_ = static_cast<std::uint32_t>(host.elementCount());
-    view_.emplace(&host, hr::SolutionView(sol), H_, true);
-    view_->setCells(cellLeaf);
-    in_->attach(*view_);
-    for (std::uint32_t leaf = 0; leaf < H_; ++leaf) {
-      if (view_->cellsOf(leaf).empty() || !in_->simulates(host.material(host.info(hr::NodeId{leaf}).material))) continue;
-      in_->split(hr::NodeId{leaf}, view_->cellsOf(leaf));
+    if (cellLeaf.size() != sol.elements.size()) throw std::logic_error("display cells: one leaf per solution element expected");
+    cellLeaf_ = cellLeaf;
+    const hr::SolutionView cells(sol);
+    cellNormal_.resize(cellLeaf.size());
+    for (std::uint32_t i = 0; i < cellLeaf.size(); ++i) cellNormal_[i] = cells.info(hr::NodeId{i}).normal;
+    for (std::uint32_t l : cellLeaf)
+      if (l >= H_) throw std::logic_error("display cells: a cell names no leaf of the host");
+    // The leaves the extension may hold light for (the ones it saves): the file says how it saw them.
+    shown_.clear();
+    for (std::uint32_t l = 0; l < H_; ++l) {
+      hr::NodeInfo i = host.info(hr::NodeId{l});
+      if (i.leaf && i.material < host.materialCount() && in_->simulates(host.material(i.material))) shown_.push_back({l, i});
     }
-    shown_ = true;
+    showing_ = true;
   }
 
   // Solving: the host's own node ids, passed through.
@@ -123,38 +139,81 @@ class Adapter final : public hr::Extension {
     return in_->sampleExitant(l, u1, u2, d);
   }
 
-  // Display and the file: solution element i is node H + i.
-  hr::Rgb radiance(hr::NodeId l, const hr::Vec3& e) const override { return in_->radiance(cell(l), e); }
-  std::size_t coefficients(hr::NodeId l) const override { return in_->coefficients(cell(l)); }
+  // Display and the file: solution element i is cell i, which shows its leaf's light from its own
+  // side only (a cell of a curved leaf may face away from directions the leaf faces).
+  hr::Rgb radiance(hr::NodeId c, const hr::Vec3& e) const override {
+    if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);
+    return in_->radiance(hr::NodeId{cellLeaf_[c.index()]}, e, cellNormal_[c.index()]);
+  }
+  hr::Rgb radiance(hr::NodeId c, const hr::Vec3& e, const hr::Vec3& n) const override {
+    if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);
+    return in_->radiance(hr::NodeId{cellLeaf_[c.index()]}, e, n);
+  }
+  /// The coefficients of the leaf a cell shows (shared by all its cells).
+  std::size_t coefficients(hr::NodeId c) const override { return isCell(c) ? in_->coefficients(hr::NodeId{cellLeaf_[c.index()]}) : 0; }
   std::uint32_t formatVersion() const override { return in_->formatVersion(); }
   void save(std::ostream& out) const override {
-    char bytes[8];
-    const std::uint32_t head[2] = {kMagic, H_};
-    for (int k = 0; k < 8; ++k) bytes[k] = char((head[k / 4] >> (8 * (k % 4))) & 0xFF);
-    out.write(bytes, 8);
+    put32(out, kMagic);
+    put32(out, H_);
+    put32(out, std::uint32_t(cellLeaf_.size()));
+    for (std::uint32_t l : cellLeaf_) put32(out, l);
+    put32(out, std::uint32_t(shown_.size()));
+    for (const auto& [id, i] : shown_) {
+      put32(out, id);
+      put64(out, i.area);
+      for (int k = 0; k < 3; ++k) put64(out, i.normal[k]);
+      put32(out, i.material);
+    }
     in_->save(out);
   }
   void load(std::string_view bytes, const hr::HostView& cells) override {
-    if (bytes.size() < 8) throw hr::InputError(std::string(kWhat) + ": truncated");
-    std::uint32_t head[2] = {0, 0};
-    for (int k = 0; k < 8; ++k) head[k / 4] |= std::uint32_t(static_cast<unsigned char>(bytes[std::size_t(k)])) << (8 * (k % 4));
-    if (head[0] != kMagic) throw hr::InputError(std::string(kWhat) + ": not written by this host's adapter");
-    if (std::uint64_t(head[1]) + cells.elementCount() >= hr::NodeId::kClusterBit)
-      throw hr::InputError(std::string(kWhat) + ": node count out of range");
-    H_ = head[1];
-    view_.emplace(nullptr, cells, H_, false);
-    in_->load(bytes.substr(8), *view_);
-    shown_ = true;
+    Reader r{bytes};
+    const std::uint32_t magic = r.u32();
+    if (magic == kOldMagic) refuse("written before cells shared their leaf's light (a copy per cell): solve the scene again");
+    if (magic != kMagic) refuse("not written by this host's adapter");
+    const std::uint32_t H = r.u32(), C = r.u32();
+    if (std::uint64_t(H) >= hr::NodeId::kClusterBit) refuse("leaf count out of range");
+    if (C != cells.elementCount())
+      refuse(std::to_string(C) + " cells, the solution has " + std::to_string(cells.elementCount()) + " elements");
+    if (std::uint64_t(C) * 4 > bytes.size() - r.at) refuse("truncated");
+    std::vector<std::uint32_t> cellLeaf(C);
+    for (std::uint32_t& l : cellLeaf)
+      if ((l = r.u32()) >= H) refuse("a cell names leaf " + std::to_string(l) + " of " + std::to_string(H));
+    const std::uint32_t K = r.u32();
+    if (std::uint64_t(K) * 36 > bytes.size() - r.at) refuse("truncated");
+    std::vector<std::pair<std::uint32_t, hr::NodeInfo>> shown(K);
+    for (std::uint32_t k = 0; k < K; ++k) {
+      auto& [id, i] = shown[k];
+      id = r.u32();
+      i.area = r.f64();
+      for (int c = 0; c < 3; ++c) i.normal[c] = r.f64();
+      i.material = r.u32();
+      const std::string where = "leaf " + std::to_string(id);
+      if (id >= H || (k > 0 && id <= shown[k - 1].first)) refuse(where + ": out of range or out of order");
+      if (!(i.area > 0.0) || !std::isfinite(i.area) || !hr::allFinite(i.normal) || std::abs(glm::length(i.normal) - 1.0) > 1e-6)
+        refuse(where + ": area or normal out of range");
+      if (i.material >= cells.materialCount()) refuse(where + ": no material " + std::to_string(i.material));
+      i.leaf = i.planar = true;  // reflected about its one normal, as a flat leaf is
+    }
+    std::vector<hr::Vec3> normals(C);
+    for (std::uint32_t c = 0; c < C; ++c) normals[c] = cells.info(hr::NodeId{c}).normal;
+    auto view = std::make_unique<LeafView>(cells, H, shown);
+    in_->load(bytes.substr(r.at), *view);  // throws before anything of this adapter changes
+    H_ = H, cellLeaf_ = std::move(cellLeaf), cellNormal_ = std::move(normals), shown_ = std::move(shown);
+    leaves_ = std::move(view);
+    showing_ = true;
   }
-  std::vector<hr::StatEntry> stats() const override { return shown_ && !stats_.empty() ? stats_ : in_->stats(); }
+  std::vector<hr::StatEntry> stats() const override { return in_->stats(); }
 
  private:
-  hr::NodeId cell(hr::NodeId n) const { return n.isCluster() ? n : hr::NodeId{n.index() + H_}; }
+  bool isCell(hr::NodeId c) const { return showing_ && !c.isCluster() && c.index() < cellLeaf_.size(); }
   std::unique_ptr<hr::Extension> in_;
-  std::uint32_t H_ = 0;  // 0 while solving: ids are the host's
-  bool shown_ = false;
-  std::optional<CellView> view_;
-  std::vector<hr::StatEntry> stats_;
+  std::uint32_t H_ = 0;
+  bool showing_ = false;  // false while solving: ids are the host's
+  std::vector<std::uint32_t> cellLeaf_;  // per cell: the host leaf it shows
+  std::vector<hr::Vec3> cellNormal_;     // per cell: its flat polygon's normal
+  std::vector<std::pair<std::uint32_t, hr::NodeInfo>> shown_;  // the simulated leaves cells show, by id
+  std::unique_ptr<LeafView> leaves_;     // loaded: the extension's view
 };
 
 }  // namespace

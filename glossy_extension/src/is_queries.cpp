@@ -3,6 +3,7 @@
 // toward the eye and coefficient counts (display and inspection). All const and safe to call from
 // many threads at once; every result is finite.
 #include <glossy/bound.h>
+#include <glossy/brdf.h>
 #include <glossy/illumination_samples.h>
 #include <glossy/spherical_geometry.h>
 
@@ -172,6 +173,19 @@ hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye) co
   // below the sine of that angle: divide by no less (sin 6.8 deg at tetra level 3, sin 11.25 deg at SH order 8).
   double floor = std::sin(0.5 * resolutionAngle(l->dist));
   return finiteOrZero(intensity(leaf, toEye) / (l->area * std::max(cosT, floor)));
+}
+
+hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal) const {
+  const NodeLight* l = light(leaf);
+  const bool usable = hr::allFinite(normal) && std::abs(glm::length(normal) - 1.0) < 1e-6;
+  if (!l || !hasHorizon(*l) || !usable || glm::dot(normal, l->normal) >= 1.0 - 1e-12) return radiance(leaf, toEye);
+  if (!(glm::dot(normal, toEye) > 0.0)) return Rgb(0.0);
+  // The leaf reflected its incident light about its one normal. A point of a curved surface mirrors
+  // the same incident light about its own: the light it sends toward the eye came from in, which the
+  // leaf mirrored toward seen. Turning the lookup by the normal's turn alone would move a highlight
+  // half as far as the surface turns it (a mirror turns reflections by twice the normal's angle).
+  const Vec3 in = mirror(toEye, normal), seen = mirror(in, l->normal);
+  return radiance(leaf, seen);
 }
 
 std::size_t IlluminationSamples::coefficients(hr::NodeId leaf) const {

@@ -164,6 +164,9 @@ class Extension {
   // Display: const, concurrent.
   /// The extension's radiance leaving a leaf toward unit toEye, W/(m^2 sr), added to the host's B/pi.
   virtual Rgb radiance(NodeId /*leaf*/, const Vec3& /*toEye*/) const { return Rgb(0.0); }
+  /// The same at a point whose surface normal is unit `normal` (a curved or smoothly shaded surface
+  /// turns away from its leaf's plane): a glossy lobe follows the point's normal, not the leaf's.
+  virtual Rgb radiance(NodeId leaf, const Vec3& toEye, const Vec3& /*normal*/) const { return radiance(leaf, toEye); }
   /// Directional coefficients a leaf holds (inspection files); 0 for none.
   virtual std::size_t coefficients(NodeId /*leaf*/) const { return 0; }
 

@@ -62,6 +62,28 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
   }
   memberArea_.resize(member_.size());
   for (std::size_t m = 0; m < member_.size(); ++m) memberArea_[m] = s.elements[member_[m]].poly.area();
+  // A vertex whose leaves all face within 30 degrees of each other, not all the same way, lies on a
+  // curved surface: its shading normal is their area-weighted mean. A crease or a plane has none.
+  normal_.assign(pos_.size(), Vec3(0.0));
+  for (std::size_t v = 0; v < pos_.size(); ++v) {
+    Vec3 sum(0.0);
+    bool smooth = true, turned = false;
+    for (std::uint32_t a = memberStart_[v]; a < memberStart_[v + 1] && smooth; ++a) {
+      const Vec3& na = s.patches[s.elements[member_[a]].patch].normal;
+      sum += memberArea_[a] * na;
+      for (std::uint32_t b = a + 1; b < memberStart_[v + 1]; ++b) {
+        double c = glm::dot(na, s.patches[s.elements[member_[b]].patch].normal);
+        smooth = smooth && c >= cosMax;
+        turned = turned || c < 1.0 - 1e-9;
+      }
+    }
+    const double len = glm::length(sum);
+    if (smooth && turned && len > 0.0 && allFinite(sum)) normal_[v] = sum / len;
+  }
+  curved_.assign(s.elements.size(), 0);
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i)
+    if (cornerOf_[i] != kNone)
+      for (int k = 0; k < 4; ++k) curved_[i] |= normal_[cornerVertex_[cornerOf_[i] + k]] != Vec3(0.0) ? 1 : 0;
   value_.assign(member_.size(), Rgb(0.0));
   cornerValue_.assign(cornerVertex_.size(), Rgb(0.0));
 }
@@ -85,8 +107,9 @@ std::size_t ExtensionDisplay::update(const Vec3& eye, double thresholdDeg) {
       lastDir_[v] = df;
       fresh_[v] = 1;
       ++count;
+      const bool shaded = normal_[v] != Vec3(0.0);
       for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
-        Rgb L = ext_.radiance(NodeId{member_[m]}, d);
+        Rgb L = shaded ? ext_.radiance(NodeId{member_[m]}, d, normal_[v]) : ext_.radiance(NodeId{member_[m]}, d);
         value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
       }
     }
@@ -112,6 +135,34 @@ Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x) const {
   if (leaf >= cornerOf_.size() || cornerOf_[leaf] == kNone) return Rgb(0.0);
   const std::uint32_t c = cornerOf_[leaf];
   return interpolateCorners(s_, leaf, x, {cornerValue_[c], cornerValue_[c + 1], cornerValue_[c + 2], cornerValue_[c + 3]});
+}
+
+Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x, const Vec3& toEye) const {
+  if (leaf >= cornerOf_.size() || cornerOf_[leaf] == kNone) return Rgb(0.0);
+  if (!curved_[leaf]) return radiance(leaf, x);
+  const std::uint32_t c = cornerOf_[leaf];
+  const std::array<double, 4> w = cornerWeights(s_, leaf, x);
+  const Vec3& own = s_.patches[s_.elements[leaf].patch].normal;
+  Vec3 n(0.0);
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    const Vec3& nv = normal_[cornerVertex_[c + k]];
+    n += w[k] * (nv != Vec3(0.0) ? nv : own);
+  }
+  const double len = glm::length(n);
+  n = len > 0.0 && allFinite(n) ? n / len : own;
+  Rgb out(0.0);
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    if (!(w[k] > 0.0)) continue;
+    Rgb sum(0.0);
+    double a = 0.0;
+    for (std::uint32_t u = useStart_[c + k]; u < useStart_[c + k + 1]; ++u) {
+      Rgb L = ext_.radiance(NodeId{member_[use_[u]]}, toEye, n);
+      sum += memberArea_[use_[u]] * (allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0));
+      a += memberArea_[use_[u]];
+    }
+    if (a > 0.0) out += w[k] * (sum / a);
+  }
+  return out;
 }
 
 }  // namespace hr

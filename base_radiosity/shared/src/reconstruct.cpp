@@ -136,7 +136,7 @@ Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {
   return interpolateCorners(s, leaf, x, s.cornerRadiosity[leaf]);
 }
 
-Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& cv) {
+std::array<double, 4> cornerWeights(const Solution& s, std::uint32_t leaf, const Vec3& x) {
   const auto& e = s.elements[leaf];
   const Vec3& n = s.patches[e.patch].normal;
   auto bary = [&](const Vec3& a, const Vec3& b, const Vec3& c, double& u, double& v, double& w) {
@@ -154,20 +154,28 @@ Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, con
     bary(e.poly.v[0], e.poly.v[1], e.poly.v[2], u, v, w);
     u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
     double t = std::max(u + v + w, 1e-300);
-    return (u * cv[0] + v * cv[1] + w * cv[2]) / t;
+    return {u / t, v / t, w / t, 0.0};
   }
   // Quads: four triangles around the centre, whose value is the mean of the corners.
   Vec3 c = e.poly.centroid();
-  Rgb cc = 0.25 * (cv[0] + cv[1] + cv[2] + cv[3]);
   for (int k = 0; k < 4; ++k) {
     bary(e.poly.v[k], e.poly.v[(k + 1) % 4], c, u, v, w);
     if ((u >= -1e-9 && v >= -1e-9 && w >= -1e-9) || k == 3) {
       u = glm::clamp(u, 0.0, 1.0), v = glm::clamp(v, 0.0, 1.0), w = glm::clamp(w, 0.0, 1.0);
       double t = std::max(u + v + w, 1e-300);
-      return (u * cv[k] + v * cv[(k + 1) % 4] + w * cc) / t;
+      std::array<double, 4> out;
+      out.fill(0.25 * w / t);
+      out[std::size_t(k)] += u / t;
+      out[std::size_t((k + 1) % 4)] += v / t;
+      return out;
     }
   }
-  return cc;
+  return {0.25, 0.25, 0.25, 0.25};
+}
+
+Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& cv) {
+  const std::array<double, 4> w = cornerWeights(s, leaf, x);
+  return w[0] * cv[0] + w[1] * cv[1] + w[2] * cv[2] + w[3] * cv[3];
 }
 
 }  // namespace hr

@@ -55,8 +55,8 @@ Image render(const Solution& s, const Camera& cam, const Extension* ext) {
   // The host's smooth B / pi plus the extension's share, smooth per display vertex toward this eye.
   ExtensionDisplay display(s, *ext);
   display.update(cam.eye);
-  return render(s, cam, [&](std::uint32_t leaf, const Vec3& x, const Vec3&) {
-    return interpolate(s, leaf, x) / kPi + display.radiance(leaf, x);
+  return render(s, cam, [&](std::uint32_t leaf, const Vec3& x, const Vec3& toEye) {
+    return interpolate(s, leaf, x) / kPi + display.radiance(leaf, x, toEye);
   });
 }
 

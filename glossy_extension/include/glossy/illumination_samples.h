@@ -69,6 +69,7 @@ class IlluminationSamples : public hr::Extension {
   hr::Rgb reflectedPower(hr::NodeId leaf) const override;
   hr::Rgb sampleExitant(hr::NodeId leaf, double u1, double u2, hr::Vec3& dir) const override;
   hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye) const override;
+  hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal) const override;
   std::size_t coefficients(hr::NodeId leaf) const override;
 
   std::uint32_t formatVersion() const override { return 2; }

@@ -5,6 +5,10 @@
 // of its own normal. Still images and the viewer use the same values, so they agree. The viewer
 // re-evaluates a vertex only when its view direction turned by more than a threshold since its last
 // evaluation (§5.2's quality/update-rate trade-off); a threshold of 0 re-evaluates every vertex.
+// Where the leaves meeting at a vertex all lie within 30 degrees of each other but not in one plane
+// (a curved or tessellated surface), the vertex has a shading normal and the extension evaluates its
+// leaves as seen at that normal: a glossy highlight moves with the surface, not with the leaf.
+// Still images go further on such leaves and evaluate every pixel at its interpolated normal.
 #pragma once
 #include <hr/extension.h>
 #include <hr/solution.h>
@@ -26,6 +30,11 @@ class ExtensionDisplay {
   /// The extension's radiance at x on a leaf, W/(m^2 sr): its corners' values interpolated. Zero
   /// for leaves the extension does not simulate.
   Rgb radiance(std::uint32_t leaf, const Vec3& x) const;
+  /// The same seen toward unit toEye from x: on a leaf of a curved surface (some corner with a
+  /// shading normal) every corner's leaves are evaluated at x's interpolated normal toward toEye and
+  /// interpolated, so a highlight is as sharp as the directional basis, not the display vertices;
+  /// elsewhere the corners' values, as radiance(leaf, x). Const and concurrent (still images).
+  Rgb radiance(std::uint32_t leaf, const Vec3& x, const Vec3& toEye) const;
   bool simulated(std::uint32_t leaf) const { return cornerOf_[leaf] != kNone; }
   std::size_t vertexCount() const { return pos_.size(); }
   /// The leaf corners' values after update(), W/(m^2 sr): a simulated leaf's corners are the four
@@ -41,6 +50,8 @@ class ExtensionDisplay {
   std::vector<Vec3> pos_;                 // per display vertex
   std::vector<std::uint32_t> memberStart_, member_;  // leaves meeting at each vertex (CSR)
   std::vector<double> memberArea_;        // per member: its leaf's area, m^2 (the corners' weights)
+  std::vector<Vec3> normal_;              // per display vertex: its shading normal, or 0 (each leaf its own)
+  std::vector<char> curved_;              // per element: a simulated leaf with a shading normal at a corner
   std::vector<Rgb> value_;                // per member: radiance toward the eye, W/(m^2 sr)
   std::vector<std::uint32_t> cornerOf_;   // per element: first of its corners in corner*, or kNone
   std::vector<std::uint32_t> cornerVertex_;                  // per corner: its display vertex

@@ -5,6 +5,7 @@
 #include <hr/geometry.h>
 #include <hr/section_file.h>
 
+#include <array>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -82,6 +83,8 @@ std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x);
 /// Any per-corner values of a leaf (e.g. radiance toward an eye) interpolated at x the same way.
 Rgb interpolateCorners(const Solution& s, std::uint32_t leaf, const Vec3& x, const std::array<Rgb, 4>& corners);
+/// The weights interpolateCorners gives a leaf's four corners at x (they sum to 1; a triangle's fourth is 0).
+std::array<double, 4> cornerWeights(const Solution& s, std::uint32_t leaf, const Vec3& x);
 
 /// Versioned binary solution file (.ghrs, format 2: tagged sections with a CRC-32 each, see
 /// solution_io.cpp). Throws InputError naming the section on a damaged, truncated or foreign file.
