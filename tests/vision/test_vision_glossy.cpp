@@ -2,11 +2,13 @@
 // conservation, the other host and itself: a closed glossy furnace keeps its energy and reflects
 // what the BRIGHT-like host reflects; 1 and 2 threads give the same bytes; the three-lights image
 // lies within a stated bar of the BRIGHT-like host's; a solution's extension section renders back to
-// the same image; Radiance Clustering, which gathers only, is refused with exit 2.
+// the same image; Radiance Clustering, which gathers only, is refused with exit 2; a shiny sphere's
+// highlight sits where the mirror law puts it on both hosts; the display cells' section refuses damage.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <hr/camera.h>
 #include <hr/output.h>
+#include <hr/solution_view.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -20,6 +22,7 @@
 #include "../helpers.h"
 #include "../test_dir.h"
 #include "registry.h"
+#include "vision/display_cells.h"
 #include "vision_helpers.h"
 #include "../saved_bytes.h"
 #include "../whole_sample_lists.h"
@@ -213,6 +216,56 @@ TEST(GlossyDisplayCli, ASpheresHighlightSitsWhereTheMirrorLawPutsItOnBothHosts) 
     std::printf("%s: the brightest pixel lies %.2f degrees off the mirror law\n", host, e);
     EXPECT_LT(e, bar) << host;
   }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(VisionGlossyCli, TheCellsSectionRefusesDamageAndTheOlderLayout) {
+  // The adapter's part of a VISION solution's extension section (magic, H, each cell's leaf, the
+  // shown leaves) is read before the extension's: truncated anywhere, a cell naming a leaf beyond H,
+  // or the layout of before 2026-12-03 (a copy per cell), it is refused with an InputError naming
+  // the section, never read past its end; intact, every cell's radiance is finite.
+  namespace fs = std::filesystem;
+  const fs::path dir = testutil::testDir();
+  std::string out;
+  ASSERT_EQ(testutil::runCli("solve " + std::string(GHR_SOURCE_DIR) + "/scenes/glossy_sphere.json --host vision --algorithm is --eps 2e-3 --quiet -o " +
+                                 (dir / "s").string(), out), 0) << out;
+  const hr::Solution sol = hr::loadSolution((dir / "s" / "solution.ghrs").string());
+  const hr::SolutionView view(sol);
+  const std::string& bytes = sol.extension.bytes;
+  auto load = [&](const std::string& b) {
+    auto ext = adapters::vision::adapt(adapters::findExtension("is").make());
+    ext->load(b, view);
+    return ext;
+  };
+  auto intact = load(bytes);
+  std::size_t lit = 0;
+  for (std::uint32_t i = 0; i < sol.elements.size(); ++i) {
+    const hr::Vec3 n = sol.patches[sol.elements[i].patch].normal;
+    const hr::Rgb L = intact->radiance(hr::NodeId{i}, n), Ln = intact->radiance(hr::NodeId{i}, n, n);
+    ASSERT_TRUE(hr::allFinite(L) && hr::allFinite(Ln)) << i;
+    EXPECT_EQ(L, Ln) << "a cell asked at its own normal, either way";
+    lit += L.x > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(lit, 0u) << "some cells show glossy light";
+  const std::uint32_t H = std::uint32_t(static_cast<unsigned char>(bytes[4])) | std::uint32_t(static_cast<unsigned char>(bytes[5])) << 8 |
+                          std::uint32_t(static_cast<unsigned char>(bytes[6])) << 16 | std::uint32_t(static_cast<unsigned char>(bytes[7])) << 24;
+  const std::size_t header = 12 + 4 * sol.elements.size();
+  for (std::size_t cut : {std::size_t(0), std::size_t(3), std::size_t(8), std::size_t(11), header - 2, header + 2, header + 40})
+    EXPECT_THROW(load(bytes.substr(0, cut)), hr::InputError) << "cut at " << cut;
+  std::string old = bytes;
+  old[0] = 'V', old[1] = 'I', old[2] = 'S', old[3] = 'C';
+  try {
+    load(old);
+    ADD_FAILURE() << "the older layout was read";
+  } catch (const hr::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("solve the scene again"), std::string::npos) << e.what();
+  }
+  std::string far = bytes;
+  for (int k = 0; k < 4; ++k) far[12 + std::size_t(k)] = char((H >> (8 * k)) & 0xFF);  // cell 0 names leaf H
+  EXPECT_THROW(load(far), hr::InputError);
 }
 
 }  // namespace
