@@ -111,6 +111,10 @@ class Adapter final : public hr::Extension {
   std::vector<hr::OptionSpec> options() const override { return in_->options(); }
   void configure(const std::vector<hr::OptionValue>& v) override { in_->configure(v); }
   bool simulates(const hr::MaterialInfo& m) const override { return in_->simulates(m); }
+  hr::Reflector reflector(const hr::MaterialInfo& m) const override { return in_->reflector(m); }
+  void limitDirectionalLevels(int levels) override { in_->limitDirectionalLevels(levels); }
+  void memoryBudget(std::size_t bytes) override { in_->memoryBudget(bytes); }
+  std::size_t heldBytes() const override { return in_->heldBytes(); }
   void attach(const hr::HostView& v) override { in_->attach(v); }
   void split(hr::NodeId p, std::span<const hr::NodeId> c) override { in_->split(p, c); }
   hr::Rgb intensity(hr::NodeId n, const hr::Vec3& d) const override { return in_->intensity(n, d); }

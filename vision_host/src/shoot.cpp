@@ -221,6 +221,14 @@ class Shot {
         gap = lambertian + extensionGap(s_, x, rg, kb, true);
         if (gap > limit) gap = lambertian + extensionGap(s_, x, rg, kb, false);
       }
+      // A sharply reflecting receiver misplaces the image of a sender it sees wider than its lobe (the
+      // sender's light arrives as one direction): that share of what it can receive counts too.
+      if (gap <= limit && !s_.surfaceReflector.empty()) {
+        const hr::Reflector& rf = r.e ? s_.surfaceReflector[r.e->surface] : s_.clusterReflector[r.cluster];
+        const double d = glm::length(x.g.center - rg.center);
+        const double share = hr::misplacedReflection(rf, 2.0 * std::max(x.g.radius, rg.radius), d);
+        if (share > 0.0) gap += share * rg.area * kb.kmax * (phi + (x.owned ? hr::luminance(x.X) : 0.0)) / hr::kPi;
+      }
       const bool xSplits = canSplit(x);
       if (gap <= limit || (!xSplits && !rSplits)) {
         const Estimate est = estimate(s_, x, r, &points);

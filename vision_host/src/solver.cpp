@@ -56,6 +56,33 @@ struct Solver::Impl {
       for (std::uint32_t k : cl.clusters) s.ownedCluster[c] |= s.ownedCluster[k];
       for (std::uint32_t k : cl.surfaces) s.ownedCluster[c] |= s.ownedSurface[k];
     }
+    markReflectors();
+  }
+
+  /// As the BRIGHT-like host's oracle: a sharp reflector's image of a sender is blurred and misplaced
+  /// when it sees a sender wider than its lobe, so such interactions are refined (hr::Reflector).
+  void markReflectors() {
+    std::vector<hr::Reflector> r(s.h.surfaces().size());
+    bool any = false;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      if (!s.ownedSurface[i]) continue;
+      r[i] = s.ext->reflector(view.material(s.h.surfaces()[i].material));
+      if (!(r[i].albedo > 0.0 && std::isfinite(r[i].albedo) && r[i].width > 0.0 && std::isfinite(r[i].width))) r[i] = {};
+      any = any || r[i].albedo > 0.0;
+    }
+    if (!any) return;
+    s.surfaceReflector = std::move(r);
+    s.clusterReflector.assign(s.h.clusters().size(), hr::Reflector{0.0, hr::kPi});
+    auto merge = [](hr::Reflector& a, const hr::Reflector& b) {
+      if (!(b.albedo > 0.0)) return;
+      a.albedo = std::max(a.albedo, b.albedo);
+      a.width = std::min(a.width, b.width);
+    };
+    for (std::size_t c = s.h.clusters().size(); c-- > 0;) {
+      const Cluster& cl = s.h.clusters()[c];
+      for (std::uint32_t k : cl.clusters) merge(s.clusterReflector[c], s.clusterReflector[k]);
+      for (std::uint32_t k : cl.surfaces) merge(s.clusterReflector[c], s.surfaceReflector[k]);
+    }
   }
 
   /// After a shot: number its new elements; the extension learns of them and clears the unshot light

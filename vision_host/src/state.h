@@ -71,6 +71,9 @@ struct State {
   hr::Extension* ext = nullptr;               // additive: it owns only the part it simulates
   const NodeView* view = nullptr;             // what the extension reads of the nodes
   std::vector<std::uint8_t> ownedSurface, ownedCluster;  // the extension simulates a surface inside
+  // How sharply each surface reflects through the extension, and each cluster's sharpest (largest
+  // albedo, narrowest lobe): empty when no material has a reflector, so the term costs nothing then.
+  std::vector<hr::Reflector> surfaceReflector, clusterReflector;
 
   double emitted = 0.0;     // luminance, W
   double threshold = 0.0;   // eps * emitted: the largest gap a kept interaction may have, W

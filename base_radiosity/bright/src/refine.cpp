@@ -171,10 +171,8 @@ double reflectionError(const SolverState& s, const Link& l, const SenderLuminanc
   if (r.albedo <= 0.0) return 0.0;
   const double d = glm::length(s.h.center(l.sender) - s.h.center(l.receiver));
   const double reach = 2.0 * std::max(s.h.radius(l.sender), s.h.radius(l.receiver));
-  if (reach <= r.width * d) return 0.0;
-  const double misplaced = d > 0.0 ? 1.0 - r.width * d / reach : 1.0;
-  const double concentration = 1.0 / std::min(1.0, r.width * r.width);
-  return r.albedo * catchingArea(s, l) * value() * double(l.bound) * misplaced * concentration;
+  const double share = misplacedReflection(r, reach, d);
+  return share > 0.0 ? share * catchingArea(s, l) * value() * double(l.bound) : 0.0;
 }
 
 /// A coarse threshold places light coarsely but never loses or makes more than this fraction of the

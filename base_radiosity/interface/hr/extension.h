@@ -9,6 +9,7 @@
 #pragma once
 #include <hr/host_view.h>
 
+#include <algorithm>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -34,6 +35,16 @@ struct Reflector {
   double albedo = 0.0;
   double width = 0.0;
 };
+
+/// The share of a link's received power (W) that a host's oracle counts as misplaced by such a
+/// receiver: reach is twice the larger node's radius, d the distance between the nodes' centres.
+/// The fraction (1 - width d / reach) of the reflected power is taken as misplaced, weighed by
+/// width^-2 (a lobe sends it into about pi width^2, where a Lambertian receiver spreads it over pi).
+inline double misplacedReflection(const Reflector& r, double reach, double d) {
+  if (!(r.albedo > 0.0) || reach <= r.width * d) return 0.0;
+  const double misplaced = d > 0.0 ? 1.0 - r.width * d / reach : 1.0;
+  return r.albedo * misplaced / std::min(1.0, r.width * r.width);
+}
 
 struct OptionSpec {
   std::string name;  // without dashes, e.g. "dir-eps"
