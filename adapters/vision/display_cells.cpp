@@ -94,9 +94,10 @@ class Adapter final : public hr::Extension {
     cellLeaf_ = cellLeaf;
     const hr::SolutionView cells(sol);
     cellNormal_.resize(cellLeaf.size());
-    for (std::uint32_t i = 0; i < cellLeaf.size(); ++i) cellNormal_[i] = cells.info(hr::NodeId{i}).normal;
-    for (std::uint32_t l : cellLeaf)
-      if (l >= H_) throw std::logic_error("display cells: a cell names no leaf of the host");
+    for (std::uint32_t i = 0; i < cellLeaf.size(); ++i) {
+      if (cellLeaf[i] >= H_) throw std::logic_error("display cells: a cell names no leaf of the host");
+      cellNormal_[i] = cells.info(hr::NodeId{i}).normal;
+    }
     // The leaves the extension may hold light for (the ones it saves): the file says how it saw them.
     shown_.clear();
     for (std::uint32_t l = 0; l < H_; ++l) {
@@ -146,8 +147,7 @@ class Adapter final : public hr::Extension {
   // Display and the file: solution element i is cell i, which shows its leaf's light from its own
   // side only (a cell of a curved leaf may face away from directions the leaf faces).
   hr::Rgb radiance(hr::NodeId c, const hr::Vec3& e) const override {
-    if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);
-    return in_->radiance(hr::NodeId{cellLeaf_[c.index()]}, e, cellNormal_[c.index()]);
+    return isCell(c) ? radiance(c, e, cellNormal_[c.index()]) : hr::Rgb(0.0);
   }
   hr::Rgb radiance(hr::NodeId c, const hr::Vec3& e, const hr::Vec3& n) const override {
     if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);

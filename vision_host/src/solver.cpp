@@ -66,22 +66,16 @@ struct Solver::Impl {
     bool any = false;
     for (std::size_t i = 0; i < r.size(); ++i) {
       if (!s.ownedSurface[i]) continue;
-      r[i] = s.ext->reflector(view.material(s.h.surfaces()[i].material));
-      if (!(r[i].albedo > 0.0 && std::isfinite(r[i].albedo) && r[i].width > 0.0 && std::isfinite(r[i].width))) r[i] = {};
+      r[i] = hr::usableReflector(s.ext->reflector(view.material(s.h.surfaces()[i].material)));
       any = any || r[i].albedo > 0.0;
     }
     if (!any) return;
     s.surfaceReflector = std::move(r);
     s.clusterReflector.assign(s.h.clusters().size(), hr::Reflector{0.0, hr::kPi});
-    auto merge = [](hr::Reflector& a, const hr::Reflector& b) {
-      if (!(b.albedo > 0.0)) return;
-      a.albedo = std::max(a.albedo, b.albedo);
-      a.width = std::min(a.width, b.width);
-    };
     for (std::size_t c = s.h.clusters().size(); c-- > 0;) {
       const Cluster& cl = s.h.clusters()[c];
-      for (std::uint32_t k : cl.clusters) merge(s.clusterReflector[c], s.clusterReflector[k]);
-      for (std::uint32_t k : cl.surfaces) merge(s.clusterReflector[c], s.surfaceReflector[k]);
+      for (std::uint32_t k : cl.clusters) hr::keepSharpest(s.clusterReflector[c], s.clusterReflector[k]);
+      for (std::uint32_t k : cl.surfaces) hr::keepSharpest(s.clusterReflector[c], s.surfaceReflector[k]);
     }
   }
 

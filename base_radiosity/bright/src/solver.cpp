@@ -64,21 +64,15 @@ struct Solver::Impl {
     for (std::uint32_t i = 0; i < m.size(); ++i) {
       const MaterialInfo info = view.material(i);
       if (!s.ext->simulates(info)) continue;
-      m[i] = s.ext->reflector(info);
-      if (!(m[i].albedo > 0.0 && std::isfinite(m[i].albedo) && m[i].width > 0.0 && std::isfinite(m[i].width))) m[i] = {};
+      m[i] = usableReflector(s.ext->reflector(info));
       any = any || m[i].albedo > 0.0;
     }
     if (!any) return;
     s.materialReflector = std::move(m);
     s.clusterReflector.assign(s.h.clusters().size(), Reflector{0.0, kPi});
-    auto merge = [](Reflector& a, const Reflector& b) {
-      if (b.albedo <= 0.0) return;
-      a.albedo = std::max(a.albedo, b.albedo);
-      a.width = std::min(a.width, b.width);
-    };
     for (std::size_t c = s.h.clusters().size(); c-- > 0;)
       for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
-        merge(s.clusterReflector[c], k.isCluster() ? s.clusterReflector[k.index()] : s.reflector(k));
+        keepSharpest(s.clusterReflector[c], k.isCluster() ? s.clusterReflector[k.index()] : s.reflector(k));
   }
 
   static PhaseStat stat(const detail::PhaseClock& c) { return {c.wall, c.cpu, c.threads()}; }

@@ -10,6 +10,7 @@
 #include <hr/host_view.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -35,6 +36,17 @@ struct Reflector {
   double albedo = 0.0;
   double width = 0.0;
 };
+
+/// A reflector as a host's oracle takes it: one that is empty, not finite or of no width asks nothing.
+inline Reflector usableReflector(const Reflector& r) {
+  return r.albedo > 0.0 && std::isfinite(r.albedo) && r.width > 0.0 && std::isfinite(r.width) ? r : Reflector{};
+}
+/// A cluster's bound over its parts: the largest albedo and the narrowest lobe of a and b.
+inline void keepSharpest(Reflector& a, const Reflector& b) {
+  if (!(b.albedo > 0.0)) return;
+  a.albedo = std::max(a.albedo, b.albedo);
+  a.width = std::min(a.width, b.width);
+}
 
 /// The share of a link's received power (W) that a host's oracle counts as misplaced by such a
 /// receiver: reach is twice the larger node's radius, d the distance between the nodes' centres.
