@@ -40,6 +40,8 @@ std::vector<char> hiddenLeaves(const Solution& s) {
 }
 
 void reconstruct(Solution& s) {
+  const std::string* normals = findSection(s, "normals");
+  s.cornerNormals = normals ? decodeCornerNormals(s, *normals) : std::vector<std::array<Vec3, 4>>();
   // A solution saved for flat display (a "display" section saying "flat": one value per element, as
   // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
   const std::string* d = findSection(s, "display");
@@ -102,15 +104,23 @@ void reconstruct(Solution& s) {
   });
 }
 
-std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners) {
-  std::string out(kDisplayCorners);
+namespace {
+// Both per-corner sections are a tag then 4 triples of doubles per element; one writer for both.
+template <class V>
+std::string encodeCornerTriples(const char* tag, const std::vector<std::array<V, 4>>& corners) {
+  std::string out(tag);
   const std::size_t head = out.size();
   out.resize(head + corners.size() * 12 * sizeof(double));
   char* p = out.data() + head;
   for (const auto& c : corners)
-    for (const Rgb& v : c)
+    for (const V& v : c)
       for (int k = 0; k < 3; ++k, p += sizeof(double)) std::memcpy(p, &v[k], sizeof(double));
   return out;
+}
+}  // namespace
+
+std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners) {
+  return encodeCornerTriples(kDisplayCorners, corners);
 }
 
 std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload) {
@@ -130,6 +140,26 @@ std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const st
         v[k] = x;
       }
   return corners;
+}
+
+std::string encodeCornerNormals(const std::vector<std::array<Vec3, 4>>& normals) {
+  return encodeCornerTriples(kCornerNormals, normals);
+}
+
+std::vector<std::array<Vec3, 4>> decodeCornerNormals(const Solution& s, const std::string& payload) {
+  const std::size_t head = std::strlen(kCornerNormals);
+  if (payload.rfind(kCornerNormals, 0) != 0 || payload.size() != head + s.elements.size() * 12 * sizeof(double))
+    throw InputError("section \"normals\": " + std::to_string(payload.size()) + " bytes for " +
+                     std::to_string(s.elements.size()) + " elements (\"normals\", then 12 doubles each)");
+  std::vector<std::array<Vec3, 4>> normals(s.elements.size());
+  const char* p = payload.data() + head;
+  for (auto& c : normals)
+    for (Vec3& v : c) {
+      for (int k = 0; k < 3; ++k, p += sizeof(double)) std::memcpy(&v[k], p, sizeof(double));
+      if (!allFinite(v) || std::abs(glm::length(v) - 1.0) > 1e-6)
+        throw InputError("section \"normals\": a corner normal is not a finite unit vector");
+    }
+  return normals;
 }
 
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {

@@ -50,6 +50,10 @@ struct Solution {
 
   /// Per leaf corner, smoothed radiosity (W/m^2): filled by reconstruct().
   std::vector<std::array<Rgb, 4>> cornerRadiosity;
+  /// Per element, the exact unit normal of its surface at each polygon corner, or empty: a host that
+  /// keeps curved surfaces whole knows them (the "normals" section, read by reconstruct()); without
+  /// them the display estimates a vertex's normal from the flat polygons meeting there.
+  std::vector<std::array<Vec3, 4>> cornerNormals;
 };
 
 /// Adds (or replaces) an opaque section of the .ghrs file; the core's own names are reserved.
@@ -76,6 +80,13 @@ std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners)
 /// Throws InputError naming the section when its size does not match the elements or a value is
 /// negative or not finite.
 std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload);
+
+/// The exact corner normals as the "normals" section: kCornerNormals, then 12 doubles per element.
+inline constexpr const char* kCornerNormals = "normals";
+std::string encodeCornerNormals(const std::vector<std::array<Vec3, 4>>& normals);
+/// Throws InputError naming the section when its size does not match the elements or a normal is
+/// not finite and of unit length.
+std::vector<std::array<Vec3, 4>> decodeCornerNormals(const Solution& s, const std::string& payload);
 
 /// Finds the leaf of patch p that holds point x (descends the quadtree by point location).
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
