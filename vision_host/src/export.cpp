@@ -46,7 +46,6 @@ class Exporter {
     std::array<std::array<double, 2>, 4> st;
   };
   std::vector<CellSource> sources;
-  std::vector<std::array<Vec3, 4>> normals;  // per solution element, its corners' surface normals
 
   void leaf(const Element& e) {
     const Surface& s = h_.surfaces()[e.surface];
@@ -55,11 +54,10 @@ class Exporter {
     for (std::size_t j = 0; j + 1 < vs_.size(); ++j)
       for (std::size_t i = 0; i + 1 < us_.size(); ++i) {
         const double cu[4] = {us_[i], us_[i + 1], us_[i + 1], us_[i]}, cv[4] = {vs_[j], vs_[j], vs_[j + 1], vs_[j + 1]};
-        Vec3 c[4], n[4];
+        Vec3 c[4];
         std::array<std::array<double, 2>, 4> st;
-        for (int k = 0; k < 4; ++k)
-          c[k] = s.point(cu[k], cv[k]), n[k] = s.normal(cu[k], cv[k]), st[k] = {(cu[k] - r.u0) / r.du(), (cv[k] - r.v0) / r.dv()};
-        add(c, n, st, s.normal(0.5 * (us_[i] + us_[i + 1]), 0.5 * (vs_[j] + vs_[j + 1])), s, e.B, e.id);
+        for (int k = 0; k < 4; ++k) c[k] = s.point(cu[k], cv[k]), st[k] = {(cu[k] - r.u0) / r.du(), (cv[k] - r.v0) / r.dv()};
+        add(c, st, s.normal(0.5 * (us_[i] + us_[i + 1]), 0.5 * (vs_[j] + vs_[j + 1])), s, e.B, e.id);
       }
     ++leaves_;
   }
@@ -67,17 +65,16 @@ class Exporter {
  private:
   /// One cell as a convex polygon counter-clockwise about the surface's front (collapsed corners
   /// dropped: a pole or a disk's centre makes a triangle).
-  void add(const Vec3 (&c)[4], const Vec3 (&nrm)[4], const std::array<std::array<double, 2>, 4>& st, const Vec3& front,
-           const Surface& s, const Rgb& B, std::uint32_t leaf) {
+  void add(const Vec3 (&c)[4], const std::array<std::array<double, 2>, 4>& st, const Vec3& front, const Surface& s,
+           const Rgb& B, std::uint32_t leaf) {
     hr::Polygon p;
     p.n = 0;
     CellSource src{leaves_, {}};
-    std::array<Vec3, 4> normal;
     for (int q = 0; q < 4; ++q) {
       const Vec3& v = c[q];
       bool dup = false;
       for (int k = 0; k < p.n; ++k) dup = dup || glm::length(v - p.v[k]) <= 1e-12 * (1.0 + glm::length(v));
-      if (!dup) src.st[p.n] = st[q], normal[std::size_t(p.n)] = nrm[q], p.v[p.n++] = v;
+      if (!dup) src.st[p.n] = st[q], p.v[p.n++] = v;
     }
     if (p.n < 3) return;
     Vec3 a = p.areaVector();
@@ -86,17 +83,8 @@ class Exporter {
     if (glm::dot(a, front) < 0.0) {
       std::reverse(p.v.begin(), p.v.begin() + p.n);
       std::reverse(src.st.begin(), src.st.begin() + p.n);
-      std::reverse(normal.begin(), normal.begin() + p.n);
       a = -a;
     }
-    // The surface's own normal at each corner (a pole's is its axis); a triangle repeats its last.
-    for (int k = 0; k < 4; ++k) {
-      Vec3& n = normal[std::size_t(k)];
-      if (k >= p.n) n = normal[std::size_t(p.n - 1)];
-      const double len = glm::length(n);
-      n = len > 0.0 && hr::allFinite(n) ? n / len : a / area;
-    }
-    normals.push_back(normal);
     sources.push_back(src);
     hr::Patch pt;
     pt.poly = p;
@@ -165,7 +153,9 @@ hr::Solution makeSolution(const hr::Scene& scene, const Hierarchy& h, Display di
     }
     hr::setSection(sol, "display", hr::encodeDisplayCorners(corners));
   }
-  hr::setSection(sol, hr::kCornerNormals, hr::encodeCornerNormals(x.normals));
+  // The display shades curved objects at their exact normals (hr/curved_surface.h).
+  const std::vector<hr::CurvedSurface> curved = hr::curvedSurfaces(scene);
+  if (hr::anyCurved(curved)) hr::setSection(sol, hr::kSurfaces, hr::encodeSurfaces(curved));
   hr::reconstruct(sol);
   return sol;
 }

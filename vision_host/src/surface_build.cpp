@@ -2,6 +2,7 @@
 // A box gives its six faces, a mesh its faces; a polygon stays one surface when it is star-shaped
 // about its area centroid (every convex polygon is), else it is triangulated (the only split, and
 // counted). A quad that is not planar becomes two triangles, as on the tessellating host.
+#include <hr/curved_surface.h>
 #include <hr/geometry.h>
 #include <hr/limits.h>
 #include <vision/surface.h>
@@ -87,16 +88,6 @@ Surface Surface::frustum(const glm::dmat4& toWorld, double rBase, double rTop, d
 }
 
 namespace {
-
-/// A frame whose z axis is w and whose x axis is the tessellating host's first segment direction.
-glm::dmat4 frameAt(const Vec3& origin, const Vec3& axis) {
-  Vec3 w = glm::normalize(axis);
-  Vec3 a = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  Vec3 u = glm::normalize(glm::cross(a, w)), v = glm::cross(w, u);
-  glm::dmat4 m(1.0);
-  m[0] = glm::dvec4(u, 0.0), m[1] = glm::dvec4(v, 0.0), m[2] = glm::dvec4(w, 0.0), m[3] = glm::dvec4(origin, 1.0);
-  return m;
-}
 
 class Sink {
  public:
@@ -236,8 +227,8 @@ std::vector<Surface> buildSurfaces(hr::Scene& scene, SurfaceReport& report) {
         }
         break;
       }
-      case hr::PrimitiveType::Disk: sink.quadric(Surface::annulus(xf * frameAt(o.center, o.normal), 0.0, o.radius)); break;
-      case hr::PrimitiveType::Ring: sink.quadric(Surface::annulus(xf * frameAt(o.center, o.normal), o.radius, o.radius2)); break;
+      case hr::PrimitiveType::Disk: sink.quadric(Surface::annulus(xf * hr::frameAt(o.center, o.normal), 0.0, o.radius)); break;
+      case hr::PrimitiveType::Ring: sink.quadric(Surface::annulus(xf * hr::frameAt(o.center, o.normal), o.radius, o.radius2)); break;
       case hr::PrimitiveType::Sphere: {
         Surface s = Surface::sphere(xf * glm::translate(glm::dmat4(1.0), o.center), o.radius);
         s.inward = o.inward;
@@ -247,7 +238,7 @@ std::vector<Surface> buildSurfaces(hr::Scene& scene, SurfaceReport& report) {
       case hr::PrimitiveType::Cylinder:
       case hr::PrimitiveType::Cone: {
         double top = o.type == hr::PrimitiveType::Cylinder ? o.radius : o.radius2;
-        Surface s = Surface::frustum(xf * frameAt(o.base, o.axis), o.radius, top, o.height);
+        Surface s = Surface::frustum(xf * hr::frameAt(o.base, o.axis), o.radius, top, o.height);
         s.inward = o.inward;
         sink.quadric(s);
         break;

@@ -1,6 +1,6 @@
 // The BRIGHT-like host's solved quadtree as the host-independent snapshot every output reads: each
 // element with its polygon and radiosity, in the hierarchy's order (element i < patches is the root
-// of patch i), then the smooth display reconstruction.
+// of patch i), then the smooth display reconstruction and the curved objects' exact normals.
 #include <hr/solver.h>
 
 namespace hr {
@@ -17,6 +17,9 @@ Solution makeSolution(const Scene& scene, const Hierarchy& h, const std::vector<
     const Element& e = h.element(static_cast<std::uint32_t>(i));
     s.elements.push_back({e.poly, e.patch, e.firstChild, e.level, B[i]});
   }
+  // The display shades facets of curved objects at the exact normal of the surface they approximate.
+  const std::vector<CurvedSurface> curved = curvedSurfaces(scene);
+  if (anyCurved(curved)) setSection(s, kSurfaces, encodeSurfaces(curved));
   reconstruct(s);
   return s;
 }

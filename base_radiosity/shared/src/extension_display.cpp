@@ -22,7 +22,7 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
   // Vertices keyed by quantised position, object and material; members in leaf order.
   using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t, std::uint32_t, std::uint32_t>;
   std::map<Key, std::uint32_t> index;
-  std::vector<std::vector<std::uint32_t>> members, memberCorner;  // per vertex: leaves, and the corner each meets it by
+  std::vector<std::vector<std::uint32_t>> members;  // per vertex: the leaves meeting there
   cornerOf_.assign(s.elements.size(), kNone);
   for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
     const SolutionElement& e = s.elements[i];
@@ -36,18 +36,14 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
       if (fresh) {
         pos_.push_back(v);
         members.emplace_back();
-        memberCorner.emplace_back();
       }
-      if (k < e.poly.n && (members[it->second].empty() || members[it->second].back() != i))
-        members[it->second].push_back(i), memberCorner[it->second].push_back(std::uint32_t(k));
+      if (k < e.poly.n && (members[it->second].empty() || members[it->second].back() != i)) members[it->second].push_back(i);
       cornerVertex_.push_back(it->second);
     }
   }
   memberStart_.assign(1, 0);
-  std::vector<std::uint32_t> corner;  // per member: which of its leaf's corners meets the vertex
   for (std::size_t v = 0; v < members.size(); ++v) {
     member_.insert(member_.end(), members[v].begin(), members[v].end());
-    corner.insert(corner.end(), memberCorner[v].begin(), memberCorner[v].end());
     memberStart_.push_back(static_cast<std::uint32_t>(member_.size()));
   }
   // Each corner averages the members whose normal is within 30 degrees of its leaf's: creases of one
@@ -66,10 +62,18 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
   }
   memberArea_.resize(member_.size());
   for (std::size_t m = 0; m < member_.size(); ++m) memberArea_[m] = s.elements[member_[m]].poly.area();
-  // A vertex whose leaves all face within 30 degrees of each other, not all the same way, lies on a
-  // curved surface: its shading normal is their area-weighted mean. A crease or a plane has none.
+  // A vertex of a curved object the solution knows (Solution::surfaces) is shaded at its surface's
+  // normal. Elsewhere, a vertex whose leaves all face within 30 degrees of each other, not all the
+  // same way, lies on a curved surface: its shading normal is their area-weighted mean, which leans
+  // toward the larger of adaptively refined cells (on floor_gloss's sphere that moved the highlight
+  // by a fifth of a degree). A crease or a plane has none.
   normal_.assign(pos_.size(), Vec3(0.0));
   for (std::size_t v = 0; v < pos_.size(); ++v) {
+    const Vec3 exact = surfaceNormal(s, s.elements[member_[memberStart_[v]]].patch, pos_[v]);
+    if (exact != Vec3(0.0)) {
+      normal_[v] = exact;
+      continue;
+    }
     Vec3 sum(0.0);
     bool smooth = true, turned = false;
     for (std::uint32_t a = memberStart_[v]; a < memberStart_[v + 1] && smooth; ++a) {
@@ -84,24 +88,9 @@ ExtensionDisplay::ExtensionDisplay(const Solution& s, const Extension& ext) : s_
     const double len = glm::length(sum);
     if (smooth && turned && len > 0.0 && allFinite(sum)) normal_[v] = sum / len;
   }
-  // Each member is seen at its vertex's normal, or, where the host knows its surface's own normal
-  // there (cornerNormals), at that: an area-weighted mean of flat cells leans toward the larger ones,
-  // and on an adaptively refined sphere that moved a highlight by a fifth of a degree (floor_gloss).
-  const bool exact = s.cornerNormals.size() == s.elements.size();
-  memberNormal_.assign(member_.size(), Vec3(0.0));
-  for (std::size_t v = 0; v < pos_.size(); ++v)
-    for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m)
-      memberNormal_[m] = exact ? s.cornerNormals[member_[m]][corner[m]] : normal_[v];
   curved_.assign(s.elements.size(), 0);
-  for (std::uint32_t i = 0; i < s.elements.size(); ++i) {
-    if (cornerOf_[i] == kNone) continue;
-    for (int k = 0; k < 4; ++k) {
-      if (exact)
-        curved_[i] |= glm::dot(s.cornerNormals[i][k], s.cornerNormals[i][0]) < 1.0 - 1e-12 ? 1 : 0;
-      else
-        curved_[i] |= normal_[cornerVertex_[cornerOf_[i] + k]] != Vec3(0.0) ? 1 : 0;
-    }
-  }
+  for (std::uint32_t i = 0; i < s.elements.size(); ++i)
+    for (int k = 0; k < 4 && cornerOf_[i] != kNone; ++k) curved_[i] |= normal_[cornerVertex_[cornerOf_[i] + k]] != Vec3(0.0) ? 1 : 0;
   value_.assign(member_.size(), Rgb(0.0));
   cornerValue_.assign(cornerVertex_.size(), Rgb(0.0));
 }
@@ -126,7 +115,7 @@ std::size_t ExtensionDisplay::update(const Vec3& eye, double thresholdDeg) {
       fresh_[v] = 1;
       ++count;
       for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
-        const Vec3& n = memberNormal_[m];
+        const Vec3& n = normal_[v];
         Rgb L = n != Vec3(0.0) ? ext_.radiance(NodeId{member_[m]}, d, n) : ext_.radiance(NodeId{member_[m]}, d);
         value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
       }
@@ -161,14 +150,16 @@ Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x, const Vec3& to
   const std::uint32_t c = cornerOf_[leaf];
   const std::array<double, 4> w = cornerWeights(s_, leaf, x);
   const Vec3& own = s_.patches[s_.elements[leaf].patch].normal;
-  const bool exact = s_.cornerNormals.size() == s_.elements.size();
-  Vec3 n(0.0);
-  for (std::uint32_t k = 0; k < 4; ++k) {
-    const Vec3& nv = exact ? s_.cornerNormals[leaf][k] : normal_[cornerVertex_[c + k]];
-    n += w[k] * (nv != Vec3(0.0) ? nv : own);
+  // The surface's own normal at x where the solution knows it; else the corners' interpolated.
+  Vec3 n = surfaceNormal(s_, s_.elements[leaf].patch, x);
+  if (n == Vec3(0.0)) {
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      const Vec3& nv = normal_[cornerVertex_[c + k]];
+      n += w[k] * (nv != Vec3(0.0) ? nv : own);
+    }
+    const double len = glm::length(n);
+    n = len > 0.0 && allFinite(n) ? n / len : own;
   }
-  const double len = glm::length(n);
-  n = len > 0.0 && allFinite(n) ? n / len : own;
   Rgb out(0.0);
   for (std::uint32_t k = 0; k < 4; ++k) {
     if (!(w[k] > 0.0)) continue;

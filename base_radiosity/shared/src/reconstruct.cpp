@@ -40,8 +40,8 @@ std::vector<char> hiddenLeaves(const Solution& s) {
 }
 
 void reconstruct(Solution& s) {
-  const std::string* normals = findSection(s, "normals");
-  s.cornerNormals = normals ? decodeCornerNormals(s, *normals) : std::vector<std::array<Vec3, 4>>();
+  const std::string* surfaces = findSection(s, kSurfaces);
+  s.surfaces = surfaces ? decodeSurfaces(*surfaces, s.objectCount) : std::vector<CurvedSurface>();
   // A solution saved for flat display (a "display" section saying "flat": one value per element, as
   // the VISION-like host shows its solutions) keeps every corner at its element's radiosity.
   const std::string* d = findSection(s, "display");
@@ -104,23 +104,15 @@ void reconstruct(Solution& s) {
   });
 }
 
-namespace {
-// Both per-corner sections are a tag then 4 triples of doubles per element; one writer for both.
-template <class V>
-std::string encodeCornerTriples(const char* tag, const std::vector<std::array<V, 4>>& corners) {
-  std::string out(tag);
+std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners) {
+  std::string out(kDisplayCorners);
   const std::size_t head = out.size();
   out.resize(head + corners.size() * 12 * sizeof(double));
   char* p = out.data() + head;
   for (const auto& c : corners)
-    for (const V& v : c)
+    for (const Rgb& v : c)
       for (int k = 0; k < 3; ++k, p += sizeof(double)) std::memcpy(p, &v[k], sizeof(double));
   return out;
-}
-}  // namespace
-
-std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners) {
-  return encodeCornerTriples(kDisplayCorners, corners);
 }
 
 std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload) {
@@ -142,24 +134,11 @@ std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const st
   return corners;
 }
 
-std::string encodeCornerNormals(const std::vector<std::array<Vec3, 4>>& normals) {
-  return encodeCornerTriples(kCornerNormals, normals);
-}
-
-std::vector<std::array<Vec3, 4>> decodeCornerNormals(const Solution& s, const std::string& payload) {
-  const std::size_t head = std::strlen(kCornerNormals);
-  if (payload.rfind(kCornerNormals, 0) != 0 || payload.size() != head + s.elements.size() * 12 * sizeof(double))
-    throw InputError("section \"normals\": " + std::to_string(payload.size()) + " bytes for " +
-                     std::to_string(s.elements.size()) + " elements (\"normals\", then 12 doubles each)");
-  std::vector<std::array<Vec3, 4>> normals(s.elements.size());
-  const char* p = payload.data() + head;
-  for (auto& c : normals)
-    for (Vec3& v : c) {
-      for (int k = 0; k < 3; ++k, p += sizeof(double)) std::memcpy(&v[k], p, sizeof(double));
-      if (!allFinite(v) || std::abs(glm::length(v) - 1.0) > 1e-6)
-        throw InputError("section \"normals\": a corner normal is not a finite unit vector");
-    }
-  return normals;
+Vec3 surfaceNormal(const Solution& s, std::uint32_t patch, const Vec3& x) {
+  if (s.surfaces.empty()) return Vec3(0.0);
+  const Patch& p = s.patches[patch];
+  const Vec3 n = s.surfaces[p.object].normalAt(x);
+  return glm::dot(n, p.normal) < 0.0 ? -n : n;
 }
 
 Rgb interpolate(const Solution& s, std::uint32_t leaf, const Vec3& x) {

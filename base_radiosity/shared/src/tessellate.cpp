@@ -1,6 +1,7 @@
 // Turns scene objects into root patches. Primitives are built as OpenMesh polygon meshes (shared
 // vertices, consistent orientation), then each face becomes one planar patch. Non-planar quads are
 // split into two triangles; zero-area faces are dropped and counted, never silently.
+#include <hr/curved_surface.h>
 #include <hr/geometry.h>
 #include <hr/limits.h>
 
@@ -34,11 +35,12 @@ class MeshBuilder {
 
 Vec3 toVec(const PolyMesh::Point& p) { return {p[0], p[1], p[2]}; }
 
-/// Orthonormal frame around a unit axis.
+/// Orthonormal frame around a unit axis: hr::frameAt's, so that segment 0 lies where the VISION-like
+/// host's u = 0 does.
 void frame(const Vec3& w, Vec3& u, Vec3& v) {
-  Vec3 a = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  u = glm::normalize(glm::cross(a, w));
-  v = glm::cross(w, u);
+  const glm::dmat4 m = frameAt(Vec3(0.0), w);
+  u = Vec3(m[0]);
+  v = Vec3(m[1]);
 }
 
 void buildDisk(MeshBuilder& b, const Object& o, int seg) {

@@ -8,9 +8,9 @@
 // Where the leaves meeting at a vertex all lie within 30 degrees of each other but not in one plane
 // (a curved or tessellated surface), the vertex has a shading normal and the extension evaluates its
 // leaves as seen at that normal: a glossy highlight moves with the surface, not with the leaf.
-// Still images go further on such leaves and evaluate every pixel at its interpolated normal. A host
-// that knows its surfaces' exact normals at the leaves' corners (Solution::cornerNormals) gives those
-// instead of the estimate.
+// Still images go further on such leaves and evaluate every pixel at its interpolated normal. On
+// objects whose curved surface the solution carries (Solution::surfaces) vertices and pixels are
+// shaded at that surface's exact normal instead of the estimate.
 #pragma once
 #include <hr/extension.h>
 #include <hr/solution.h>
@@ -53,7 +53,6 @@ class ExtensionDisplay {
   std::vector<std::uint32_t> memberStart_, member_;  // leaves meeting at each vertex (CSR)
   std::vector<double> memberArea_;        // per member: its leaf's area, m^2 (the corners' weights)
   std::vector<Vec3> normal_;              // per display vertex: its shading normal, or 0 (each leaf its own)
-  std::vector<Vec3> memberNormal_;        // per member: the normal it is seen at there, or 0 (its own)
   std::vector<char> curved_;              // per element: a simulated leaf with a shading normal at a corner
   std::vector<Rgb> value_;                // per member: radiance toward the eye, W/(m^2 sr)
   std::vector<std::uint32_t> cornerOf_;   // per element: first of its corners in corner*, or kNone

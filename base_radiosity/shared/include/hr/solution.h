@@ -2,6 +2,7 @@
 // cameras and materials. Everything downstream (images, .vtp, the .ghrs file, later the viewer)
 // reads this, so a saved solution renders exactly like a fresh one.
 #pragma once
+#include <hr/curved_surface.h>
 #include <hr/geometry.h>
 #include <hr/section_file.h>
 
@@ -50,10 +51,11 @@ struct Solution {
 
   /// Per leaf corner, smoothed radiosity (W/m^2): filled by reconstruct().
   std::vector<std::array<Rgb, 4>> cornerRadiosity;
-  /// Per element, the exact unit normal of its surface at each polygon corner, or empty: a host that
-  /// keeps curved surfaces whole knows them (the "normals" section, read by reconstruct()); without
-  /// them the display estimates a vertex's normal from the flat polygons meeting there.
-  std::vector<std::array<Vec3, 4>> cornerNormals;
+  /// Per object, its curved surface (hr/curved_surface.h), or empty when the solution holds none:
+  /// the display shades leaves of curved objects at their surface's exact normal (the "surfaces"
+  /// section, read by reconstruct()); elsewhere it estimates a vertex's normal from the polygons
+  /// meeting there.
+  std::vector<CurvedSurface> surfaces;
 };
 
 /// Adds (or replaces) an opaque section of the .ghrs file; the core's own names are reserved.
@@ -81,12 +83,9 @@ std::string encodeDisplayCorners(const std::vector<std::array<Rgb, 4>>& corners)
 /// negative or not finite.
 std::vector<std::array<Rgb, 4>> decodeDisplayCorners(const Solution& s, const std::string& payload);
 
-/// The exact corner normals as the "normals" section: kCornerNormals, then 12 doubles per element.
-inline constexpr const char* kCornerNormals = "normals";
-std::string encodeCornerNormals(const std::vector<std::array<Vec3, 4>>& normals);
-/// Throws InputError naming the section when its size does not match the elements or a normal is
-/// not finite and of unit length.
-std::vector<std::array<Vec3, 4>> decodeCornerNormals(const Solution& s, const std::string& payload);
+/// The exact shading normal at x on patch p: its object's curved surface's (s.surfaces), turned to
+/// the patch's side, or Vec3(0) where the object is flat, unknown or the normal undefined there.
+Vec3 surfaceNormal(const Solution& s, std::uint32_t patch, const Vec3& x);
 
 /// Finds the leaf of patch p that holds point x (descends the quadtree by point location).
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x);
