@@ -43,6 +43,39 @@ void frame(const Vec3& w, Vec3& u, Vec3& v) {
   v = Vec3(m[1]);
 }
 
+/// Factor on a round primitive's radii that gives its tessellation the area of the surface it stands
+/// for. Inscribed polygons lose area (a 16-gon 2.55 % of its disk), and with it a light's power and
+/// every transfer to and from the object; scaled out by this factor, the polygons straddle the true
+/// outline instead (BRIGHT's vertices lie 1.3 % outside a 16-segment disk, its edges 0.6 % inside).
+/// Closed forms for the meshes built below, in the object's own frame.
+double areaPreservingScale(const Object& o, int seg) {
+  const double n = seg, s = std::sin(kPi / n), c = std::cos(kPi / n);
+  switch (o.type) {
+    case PrimitiveType::Disk:
+    case PrimitiveType::Ring: return std::sqrt(kPi / (n * s * c));  // (n/2) sin(2pi/n) r^2 against pi r^2
+    case PrimitiveType::Cylinder:
+    case PrimitiveType::Cone: {
+      // Frustum of n trapezoids: n s (r0 + r1) k sqrt(h^2 + k^2 d^2 c^2) = pi (r0 + r1) sqrt(h^2 + d^2),
+      // a quadratic in k^2, solved in the form that stays exact as d -> 0 (cylinder: k = pi / (n s)).
+      const double a = n * s / kPi, h = o.height, d = o.radius - (o.type == PrimitiveType::Cone ? o.radius2 : o.radius);
+      const double a2h2 = a * a * h * h, rhs = h * h + d * d;
+      return std::sqrt(2.0 * rhs / (a2h2 + std::sqrt(a2h2 * a2h2 + 4.0 * a * a * d * d * c * c * rhs)));
+    }
+    case PrimitiveType::Sphere: {
+      // buildSphere's bands of trapezoids (triangles at the poles) on the unit sphere.
+      const int stacks = std::max(2, seg / 2);
+      double area = 0.0;
+      for (int k = 0; k < stacks; ++k) {
+        const double t0 = kPi * k / stacks, t1 = kPi * (k + 1) / stacks;
+        const double dr = (std::sin(t0) - std::sin(t1)) * c, dz = std::cos(t0) - std::cos(t1);
+        area += n * s * (std::sin(t0) + std::sin(t1)) * std::sqrt(dr * dr + dz * dz);
+      }
+      return std::sqrt(4.0 * kPi / area);
+    }
+    default: return 1.0;
+  }
+}
+
 void buildDisk(MeshBuilder& b, const Object& o, int seg) {
   Vec3 w = glm::normalize(o.normal), u, v;
   frame(w, u, v);
@@ -348,13 +381,17 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report) {
       continue;
     }
     MeshBuilder b;
+    Object round = o;  // radii scaled so that the polygons keep the surface's area
+    const double k = areaPreservingScale(o, seg);
+    round.radius *= k;
+    round.radius2 *= k;
     switch (o.type) {
       case PrimitiveType::Box: buildBox(b, o); break;
-      case PrimitiveType::Disk: buildDisk(b, o, seg); break;
-      case PrimitiveType::Sphere: buildSphere(b, o, seg); break;
-      case PrimitiveType::Cylinder: buildFrustum(b, o, o.radius, o.radius, seg); break;
-      case PrimitiveType::Cone: buildFrustum(b, o, o.radius, o.radius2, seg); break;
-      case PrimitiveType::Ring: buildRing(b, o, seg); break;
+      case PrimitiveType::Disk: buildDisk(b, round, seg); break;
+      case PrimitiveType::Sphere: buildSphere(b, round, seg); break;
+      case PrimitiveType::Cylinder: buildFrustum(b, round, round.radius, round.radius, seg); break;
+      case PrimitiveType::Cone: buildFrustum(b, round, round.radius, round.radius2, seg); break;
+      case PrimitiveType::Ring: buildRing(b, round, seg); break;
       default: break;
     }
     std::size_t before = patches.size();
