@@ -2,7 +2,8 @@
 // so the receiver's radiosity is one bounce: B_r = rho_r pi L_e F_{r<-e}, read from the solve.
 //  - Coaxial parallel disks (Howell C-41): F12 = [X - sqrt(X^2 - 4 (R2/R1)^2)] / 2,
 //    X = 1 + (1 + R2^2) / R1^2, R_i = r_i / h; the receiver's mean B = rho pi (A1/A2) F12. Within
-//    1 % on both hosts (the tessellating one with 64 segments around: its polygons lose 0.16 % area).
+//    1 % on both hosts, the tessellating one at its default 16 segments around (1.3-1.8 % off with
+//    inscribed 16-gons, which lose 2.55 % of each disk's area: tessellate.cpp keeps it).
 //  - A small patch facing a whole sphere (emitting outward) at distance d from its centre:
 //    F = (r/d)^2, within 1 %; the patch (2 cm at 2 m) is small enough that F varies over it by 1e-4.
 #include <gtest/gtest.h>
@@ -19,6 +20,9 @@ constexpr double kRhoR = 0.8;
 
 /// Fine enough that the one bounce is resolved to well under 1 %.
 hr::SolverOptions oneBounce() { return testutil::options(1e-5, 6); }
+/// The disks' mean B is the power the receiver gets, not where: 1e-4 gives the same ratios to 1e-5
+/// as 1e-5 does, in a seventh of the time (68 s for the three cases).
+hr::SolverOptions oneBounceDisks() { return testutil::options(1e-4, 6); }
 
 double coaxialDisks(double r1, double r2, double h) {
   const double R1 = r1 / h, R2 = r2 / h, X = 1.0 + (1.0 + R2 * R2) / (R1 * R1);
@@ -28,7 +32,7 @@ double coaxialDisks(double r1, double r2, double h) {
 std::string disks(double r1, double r2, double h) {
   // snprintf, not operator+ chains: GCC 12 warns falsely (-Wrestrict) on long ones.
   char buf[512];
-  std::snprintf(buf, sizeof buf, R"(, "settings": { "tessellation": 64 }, "objects": [
+  std::snprintf(buf, sizeof buf, R"(, "settings": { "tessellation": 16 }, "objects": [
     { "type": "disk", "material": "e", "center": [0,0,%.17g], "normal": [0,0,-1], "radius": %.17g },
     { "type": "disk", "material": "r", "center": [0,0,0], "normal": [0,0,1], "radius": %.17g } ] })",
                 h, r1, r2);
@@ -46,10 +50,10 @@ TEST_P(CoaxialDisks, BothHostsMatchTheClosedForm) {
   const double F12 = coaxialDisks(c.r1, c.r2, c.h);
   const double expected = kRhoR * hr::kPi * (c.r1 * c.r1) / (c.r2 * c.r2) * F12;
   const std::string json = disks(c.r1, c.r2, c.h);
-  auto v = visiontest::solveText(json, oneBounce());
+  auto v = visiontest::solveText(json, oneBounceDisks());
   EXPECT_EQ(v.h->surfaces().size(), 2u);
   EXPECT_NEAR(v.meanRadiosity(1).y / expected, 1.0, 0.01) << "VISION-like host, F12 = " << F12;
-  auto b = testutil::solveText(json, oneBounce());
+  auto b = testutil::solveText(json, oneBounceDisks());
   EXPECT_NEAR(b.meanRadiosity(1).y / expected, 1.0, 0.01) << "BRIGHT-like host, F12 = " << F12;
   std::printf("disks r1 %.2f r2 %.2f h %.2f: F12 %.5f, vision %.5f, bright %.5f (ratio to closed form)\n", c.r1, c.r2,
               c.h, F12, v.meanRadiosity(1).y / expected, b.meanRadiosity(1).y / expected);
