@@ -77,7 +77,7 @@ TEST(Mgf, CurvedPrimitivesKeepTheirAreaAndFacing) {
   const double pi = hr::kPi;
   const std::string c = "m w =\n rd 0.5\nv c =\n p 1 2 3\n n 0 0 1\nv top =\n p 1 2 5\n";
   Built s = build(c + "sph c 2\n", 128);
-  EXPECT_NEAR(s.area / (16.0 * pi), 1.0, 2e-3);
+  EXPECT_NEAR(s.area / (16.0 * pi), 1.0, 1e-9);
   EXPECT_NEAR(glm::length(s.centroid - Vec3(1, 2, 3)), 0.0, 1e-6);
   int outward = 0, inward = 0;
   for (const auto& p : s.patches)
@@ -90,7 +90,7 @@ TEST(Mgf, CurvedPrimitivesKeepTheirAreaAndFacing) {
     }
   // Open tube r = 1 from c to top (length 2): lateral area 4 pi, normals away from the axis.
   Built cy = build(c + "cyl c 1 top\n", 256);
-  EXPECT_NEAR(cy.area / (4.0 * pi), 1.0, 1e-3);
+  EXPECT_NEAR(cy.area / (4.0 * pi), 1.0, 1e-9);
   for (const auto& p : cy.patches) {
     if (cy.scene.materials[p.material].emitter()) continue;
     Vec3 radial = p.poly.centroid() - Vec3(1, 2, p.poly.centroid().z);
@@ -103,17 +103,19 @@ TEST(Mgf, CurvedPrimitivesKeepTheirAreaAndFacing) {
     }
   // Cone radius 1 at c to an apex at top: lateral area pi r sqrt(r^2 + h^2) = pi sqrt(5).
   Built co = build(c + "cone c 1 top 0\n", 256);
-  EXPECT_NEAR(co.area / (pi * std::sqrt(5.0)), 1.0, 1e-3);
+  EXPECT_NEAR(co.area / (pi * std::sqrt(5.0)), 1.0, 1e-9);
   EXPECT_NEAR(co.centroid.z, 3.0 + 2.0 / 3.0, 1e-3) << "a cone's lateral centroid lies at 1/3 of its height";
   // Ring 1..2 about +z: area 3 pi, facing +z.
   Built r = build(c + "ring c 1 2\n", 256);
-  EXPECT_NEAR(r.area / (3.0 * pi), 1.0, 1e-3);
+  EXPECT_NEAR(r.area / (3.0 * pi), 1.0, 1e-9);
   EXPECT_NEAR(r.areaVector.z / r.area, 1.0, 1e-9);
   // Torus between radii 1 and 2: minor radius 0.5 about a major radius 1.5: area 4 pi^2 R r. The
-  // reader tessellates it at load (16 x 8 quads by default): the polygon's area is smaller by
-  // sin(pi/16)/(pi/16) * sin(pi/8)/(pi/8) = 0.968, the rest is the quads' non-planarity.
+  // reader tessellates it at load (16 x 8 quads by default) scaled to keep that area (inscribed, the
+  // quads had 0.968 of it); at 8 segments (the reader's least) too.
   Built t = build(c + "torus c 1 2\n");
-  EXPECT_NEAR(t.area / (4.0 * pi * pi * 1.5 * 0.5), 0.96, 0.01);
+  EXPECT_NEAR(t.area / (4.0 * pi * pi * 1.5 * 0.5), 1.0, 1e-9);
+  Built t8 = build(c + "torus c -0.2 -1.8\n", 8);
+  EXPECT_NEAR(t8.area / (4.0 * pi * pi * 1.0 * 0.8), 1.0, 1e-9);
   // Prism: the unit square extruded 2 along +z: closed box of area 2 + 4 * 2.
   Built pr = build(kSquare + "prism a b c d 2\n");
   EXPECT_NEAR(pr.area, 10.0, 1e-12);

@@ -660,10 +660,21 @@ class MgfReader {
     Vec3 u = glm::normalize(glm::cross(t, w)), v = glm::cross(w, u);
     double major = 0.5 * (r0 + r1), minor = 0.5 * (r1 - r0);
     const int seg = std::max(8, scene_.settings.tessellation), sub = std::max(4, seg / 2);
+    // Scaled about the centre so that the quads keep the torus's area 4 pi^2 R r, as the tessellator
+    // keeps every round primitive's (tessellate.cpp): each band of quads between two tube angles is
+    // seg planar trapezoids.
+    double area = 0.0;
+    for (int j = 0; j < sub; ++j) {
+      const double q0 = 2.0 * kPi * j / sub, q1 = 2.0 * kPi * (j + 1) / sub;
+      const double a0 = major + minor * std::cos(q0), a1 = major + minor * std::cos(q1);  // band radii
+      const double dr = (a0 - a1) * std::cos(kPi / seg), dz = minor * (std::sin(q0) - std::sin(q1));
+      area += seg * std::sin(kPi / seg) * (a0 + a1) * std::sqrt(dr * dr + dz * dz);
+    }
+    const double k = std::sqrt(4.0 * kPi * kPi * major * minor / area);
     auto at = [&](int i, int j) {
       double p = 2.0 * kPi * i / seg, q = 2.0 * kPi * j / sub;
       Vec3 radial = std::cos(p) * u + std::sin(p) * v;
-      return c.p + (major + minor * std::cos(q)) * radial + minor * std::sin(q) * w;
+      return c.p + k * ((major + minor * std::cos(q)) * radial + minor * std::sin(q) * w);
     };
     for (int i = 0; i < seg; ++i)
       for (int j = 0; j < sub; ++j) {
