@@ -424,7 +424,8 @@ class PushPull {
   }
   void addPatch(float* t, std::uint32_t p) {
     const Patch& pt = s_.h.patches()[p];
-    addCosineLobe(t, pt.normal, s_.B[p] * (s_.openArea(p) / kPi));  // (the root element of patch p has index p)
+    // (The root element of patch p has index p.)
+    addCosineLobe(t, pt.normal, s_.clusterSource()[p] * (s_.openArea(p) / kPi));
   }
 
   /// A small cluster's peak intensity, estimated in O(patches): its exact intensity toward the
@@ -436,7 +437,7 @@ class PushPull {
     double single = 0.0;
     for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
       const Patch& p = s_.h.patches()[s_.h.patchOrder()[i]];
-      double w = luminance(s_.B[s_.h.patchOrder()[i]]) * s_.openArea(s_.h.patchOrder()[i]);
+      double w = luminance(s_.clusterSource()[s_.h.patchOrder()[i]]) * s_.openArea(s_.h.patchOrder()[i]);
       mean += p.normal * w;
       single = std::max(single, w / kPi);
     }

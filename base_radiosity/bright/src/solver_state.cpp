@@ -67,7 +67,6 @@ void SolverState::growArrays() {
 
 Rgb SolverState::hostValue(const Link& l) const {
   if (l.sender.isCluster()) {
-    assert(!shooting && "shooters are patches: a cluster never sends unshot light");
     return l.measured ? clusterPower(l.sender.index()) / (4.0 * kPi) : clusterIntensity(l.sender.index(), -Vec3(l.dir));
   }
   const Element& e = h.element(l.sender.index());
@@ -241,7 +240,7 @@ Rgb SolverState::clusterPower(std::uint32_t c) const {
   Rgb P(0.0);
   for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
     const std::uint32_t p = h.patchOrder()[i];  // the root element of patch p has index p
-    P += B[p] * openArea(p);
+    P += clusterSource()[p] * openArea(p);
   }
   return P;
 }
@@ -253,7 +252,7 @@ Rgb SolverState::clusterIntensity(std::uint32_t c, const Vec3& dir) const {
   for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) {
     std::uint32_t p = h.patchOrder()[i];  // the root element of patch p has index p
     double cs = glm::dot(h.patches()[p].normal, dir);
-    if (cs > 0.0) I += B[p] * (openArea(p) * cs / kPi);
+    if (cs > 0.0) I += clusterSource()[p] * (openArea(p) * cs / kPi);
   }
   return I;
 }

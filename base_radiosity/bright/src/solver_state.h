@@ -135,6 +135,10 @@ struct SolverState {
   /// What element senders send: radiosity, or unshot radiosity during a shooting pass (W/m^2), and
   /// the range of its leaves' values (luminance).
   const std::vector<Rgb>& sent() const { return shooting ? U : B; }
+  /// What clusters send (their intensity tables, peaks and power): radiosity when gathering; in a
+  /// shooting solve the unshot radiosity, since there a cluster sends only as a pass's shooter
+  /// (shoot.cpp). Pulled so after every pass.
+  const std::vector<Rgb>& clusterSource() const { return opt.iteration == Iteration::Shoot ? U : B; }
   float sentMin(std::uint32_t e) const { return shooting ? Umin[e] : Bmin[e]; }
   float sentMax(std::uint32_t e) const { return shooting ? Umax[e] : Bmax[e]; }
   /// The extension's light as senders send it: its total light, or its unshot light during a
@@ -166,9 +170,9 @@ struct SolverState {
   float* clusterTable(std::uint32_t c) { return &table[std::size_t(tableSlot[c]) * OctaMap::kBins * 3]; }
   /// Assigns table slots (clusters of more than kExactPatches patches) and sizes the tables.
   void allocateTables();
-  /// A cluster's Lambertian exitant intensity toward unit dir, W/sr.
+  /// A cluster's Lambertian exitant intensity toward unit dir, W/sr (of clusterSource).
   Rgb clusterIntensity(std::uint32_t c, const Vec3& dir) const;
-  /// A cluster's Lambertian exitant power, W (its patches' radiosity times their open areas).
+  /// A cluster's Lambertian exitant power, W (its patches' clusterSource times their open areas).
   Rgb clusterPower(std::uint32_t c) const;
 
   /// Sizes the per-element arrays after subdivision; a new child starts with its parent's values
