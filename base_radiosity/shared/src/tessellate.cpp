@@ -59,6 +59,7 @@ double areaPreservingScale(const Object& o, int seg) {
       // a quadratic in k^2, solved in the form that stays exact as d -> 0 (cylinder: k = pi / (n s)).
       const double a = n * s / kPi, h = o.height, d = o.radius - (o.type == PrimitiveType::Cone ? o.radius2 : o.radius);
       const double a2h2 = a * a * h * h, rhs = h * h + d * d;
+      if (!(rhs > 0.0)) return 1.0;  // no extent: refused below as a zero-size primitive
       return std::sqrt(2.0 * rhs / (a2h2 + std::sqrt(a2h2 * a2h2 + 4.0 * a * a * d * d * c * c * rhs)));
     }
     case PrimitiveType::Sphere: {
