@@ -27,9 +27,9 @@
 // SolverState::clusterSource). Links are kept per shooter: a later pass from the same shooter
 // reuses them, refined for its strongest shot (the first, as a rule). Refining afresh for each
 // weaker shot instead (link-less) lets every weak shot err by up to the threshold again: the glossy
-// sphere's balance went from 0.2 % to -1.9 %. Stops when the unshot power left is below tolerance x emitted (converged) or after
-// maxIterations passes (not converged; the power left is reported). The oracle, the energy audit
-// and the outputs are the gathering ones.
+// sphere's balance went from 0.2 % to -1.9 %. Stops when the unshot power left is below tolerance
+// x emitted (converged) or after maxIterations passes (not converged; the power left is reported).
+// The oracle, the energy audit and the outputs are the gathering ones.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
