@@ -207,7 +207,7 @@ class Shooter {
       const Cluster& cl = s_.h.cluster(c);
       const std::uint32_t n = cl.patchEnd - cl.patchBegin, k = shoots[cl.patchEnd] - shoots[cl.patchBegin];
       if (k == 0) continue;
-      if (n > 1 && k > 1 && fits[cl.patchEnd] - fits[cl.patchBegin] == n) {
+      if (n > 1 && fits[cl.patchEnd] - fits[cl.patchBegin] == n) {
         out.clusters.push_back(c);
         for (std::uint32_t i = cl.patchBegin; i < cl.patchEnd; ++i) inCluster[order[i]] = 1;
         continue;
@@ -216,8 +216,9 @@ class Shooter {
         if (it->isCluster()) stack.push_back(it->index());
     }
     for (std::uint32_t p = 0; p < power_.size(); ++p) {
-      if (picked[p] && !inCluster[p]) out.patches.push_back(p);
-      if (picked[p] || inCluster[p]) out.all.push_back(p);
+      if (!picked[p]) continue;  // (a shooter cluster's patches all shoot)
+      out.all.push_back(p);
+      if (!inCluster[p]) out.patches.push_back(p);
     }
     return out;
   }

@@ -3,6 +3,7 @@
 // says); materials are snapshotted into scene materials when geometry uses them, so a material
 // changed later gives later geometry a new scene material. See docs/mgf.md for the conversions.
 #include <hr/echo.h>
+#include <hr/geometry.h>
 #include <hr/input_file.h>
 #include <hr/limits.h>
 #include <hr/mgf.h>
@@ -661,14 +662,12 @@ class MgfReader {
     double major = 0.5 * (r0 + r1), minor = 0.5 * (r1 - r0);
     const int seg = std::max(8, scene_.settings.tessellation), sub = std::max(4, seg / 2);
     // Scaled about the centre so that the quads keep the torus's area 4 pi^2 R r, as the tessellator
-    // keeps every round primitive's (tessellate.cpp): each band of quads between two tube angles is
-    // seg planar trapezoids.
+    // keeps every round primitive's (tessellate.cpp): the quads between two tube angles are a band.
     double area = 0.0;
     for (int j = 0; j < sub; ++j) {
       const double q0 = 2.0 * kPi * j / sub, q1 = 2.0 * kPi * (j + 1) / sub;
-      const double a0 = major + minor * std::cos(q0), a1 = major + minor * std::cos(q1);  // band radii
-      const double dr = (a0 - a1) * std::cos(kPi / seg), dz = minor * (std::sin(q0) - std::sin(q1));
-      area += seg * std::sin(kPi / seg) * (a0 + a1) * std::sqrt(dr * dr + dz * dz);
+      area += polygonBandArea(major + minor * std::cos(q0), minor * std::sin(q0), major + minor * std::cos(q1),
+                              minor * std::sin(q1), seg);
     }
     const double k = std::sqrt(4.0 * kPi * kPi * major * minor / area);
     auto at = [&](int i, int j) {

@@ -63,13 +63,12 @@ double areaPreservingScale(const Object& o, int seg) {
       return std::sqrt(2.0 * rhs / (a2h2 + std::sqrt(a2h2 * a2h2 + 4.0 * a * a * d * d * c * c * rhs)));
     }
     case PrimitiveType::Sphere: {
-      // buildSphere's bands of trapezoids (triangles at the poles) on the unit sphere.
+      // buildSphere's bands (triangles at the poles) on the unit sphere.
       const int stacks = std::max(2, seg / 2);
       double area = 0.0;
       for (int k = 0; k < stacks; ++k) {
         const double t0 = kPi * k / stacks, t1 = kPi * (k + 1) / stacks;
-        const double dr = (std::sin(t0) - std::sin(t1)) * c, dz = std::cos(t0) - std::cos(t1);
-        area += n * s * (std::sin(t0) + std::sin(t1)) * std::sqrt(dr * dr + dz * dz);
+        area += polygonBandArea(std::sin(t0), std::cos(t0), std::sin(t1), std::cos(t1), seg);
       }
       return std::sqrt(4.0 * kPi / area);
     }
@@ -233,6 +232,12 @@ void emitMesh(const PolyMesh& m, const glm::dmat4& xf, bool mirrored, PatchSink&
 }
 
 }  // namespace
+
+double polygonBandArea(double r0, double z0, double r1, double z1, int n) {
+  // Parallel sides 2 r sin(pi/n); height between their midpoints, at r cos(pi/n).
+  const double dr = (r0 - r1) * std::cos(kPi / n), dz = z1 - z0;
+  return n * std::sin(kPi / n) * (r0 + r1) * std::sqrt(dr * dr + dz * dz);
+}
 
 std::vector<Polygon> triangulate(std::vector<Vec3> pts) {
   std::vector<Polygon> out;

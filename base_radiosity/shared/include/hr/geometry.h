@@ -32,6 +32,11 @@ std::vector<Patch> buildPatches(Scene& scene, TessellationReport& report);
 /// both hosts (the VISION-like one splits only the polygons it cannot keep whole).
 std::vector<Polygon> triangulate(std::vector<Vec3> pts);
 
+/// Area of n planar trapezoids joining two coaxial circles (radius r0 at height z0, r1 at z1) with
+/// vertices at the same n angles: one band of a tessellated surface of revolution. What the
+/// tessellation's area-keeping radius factors are computed from (spheres; the MGF torus).
+double polygonBandArea(double r0, double z0, double r1, double z1, int n);
+
 /// Reads OBJ (with MTL, via tinyobjloader) or PLY (via OpenMesh) into polygons; exposed for tests.
 struct MeshFace {
   Polygon poly;
