@@ -48,6 +48,8 @@ class SumBuilder {
     }
     cursors_.assign(std::size_t(o.maxLevel + 2) * 4 * std::max<std::size_t>(aligned_.size(), 1), 0);
     // Per level, each of a cell's four sub-cells' frontiers per rotated term; then the faces' own.
+    // (A leaf's own projection sums one aligned term: nothing to allocate there.)
+    if (rotated_.empty()) return;
     frontiers_.resize((std::size_t(o.maxLevel + 2) * 4 + 8) * rotated_.size());
     roots_.reserve(8);
     for (int f = 0; f < 8; ++f) roots_.push_back({std::uint32_t(f), f, 0, std::uint64_t(f), octaRoot(f)});
