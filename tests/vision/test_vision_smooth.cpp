@@ -1,8 +1,7 @@
 // Smooth display on the VISION-like host (issue 14: per-vertex smoothing in each primitive's
 // parameter space, vision_host/src/smooth.cpp), against a closed form and conservation:
-// - a closed inward sphere, rho = 0.5, L_e = 1: every display corner and every pixel seen from inside
-//   shows B = pi L_e / (1 - rho), i.e. L = 2 W/(m^2 sr) (the furnace's closed form; the sphere's seam
-//   and poles are where a wrong join would show);
+// - a closed inward sphere (in test_vision_furnaces.cpp, VisionFurnace.InwardSphere, which checks the
+//   smoothed corners and pixels of the same solve);
 // - the Cornell box: each object's smooth image as bright as its flat one (the bar of the BRIGHT
 //   host's DisplayBias test, 0.5 %), blocks standing on the floor (hidden leaves) included;
 // - a room of flat primitives refined to several levels: the display is continuous, at T-junctions
@@ -20,30 +19,6 @@
 namespace {
 
 hr::Solution smoothSolution(const visiontest::Solved& s) { return vision::makeSolution(s.scene, *s.h, vision::Display::Smooth); }
-
-TEST(VisionSmooth, FurnaceSphereStaysAtTheClosedForm) {
-  hr::SolverOptions o = testutil::options(1e-3, 4);
-  o.maxIterations = 200, o.tolerance = 1e-5;
-  hr::Scene sc = hr::parseScene(
-      R"({ "materials": { "g": { "diffuse": [0.5,0.5,0.5], "emission": [1,1,1] } },
-           "objects": [ { "type": "sphere", "material": "g", "center": [0,0,0], "radius": 1 } ] })", "");
-  sc.objects[0].inward = true;
-  auto s = visiontest::solve(std::move(sc), o);
-  hr::Solution sol = smoothSolution(s);
-  const double B = hr::kPi / (1.0 - 0.5);
-  double worst = 0.0;
-  for (std::size_t i = 0; i < sol.elements.size(); ++i)
-    for (int k = 0; k < sol.elements[i].poly.n; ++k) worst = std::max(worst, std::abs(sol.cornerRadiosity[i][k].y / B - 1.0));
-  EXPECT_LT(worst, 0.01) << "every smoothed corner within 1 % of pi Le / (1 - rho)";
-  hr::Camera cam;
-  cam.eye = hr::Vec3(0.0, 0.0, 0.3), cam.lookAt = hr::Vec3(0.0, 0.0, -1.0), cam.up = hr::Vec3(0.0, 1.0, 0.0);
-  cam.fovYDeg = 120.0, cam.width = cam.height = 64;
-  hr::Image img = hr::render(sol, cam);
-  double worstPx = 0.0;
-  for (std::size_t p = 0; p < img.objectId.size(); ++p) worstPx = std::max(worstPx, std::abs(img.rgb[3 * p + 1] / 2.0 - 1.0));
-  EXPECT_LT(worstPx, 0.01) << "every pixel within 1 % of L_e / (1 - rho) = 2 W/(m^2 sr)";
-  std::printf("furnace sphere smooth: %zu cells, worst corner %.3g, worst pixel %.3g\n", sol.elements.size(), worst, worstPx);
-}
 
 /// Mean luminance of the pixels showing each object.
 std::map<std::uint32_t, double> objectMeans(const hr::Image& img) {
