@@ -5,6 +5,8 @@
 // below 1e-4 of the element's). Bounded by 1 for touching elements, unlike 1/r^2 sampling. A curved
 // piece that x sees only in part (across its terminator or x's horizon) is split until its pieces
 // are wholly seen or wholly unseen.
+#include <hr/kernel.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -177,7 +179,7 @@ double contourFormFactor(const Vec3& x, const Vec3& n, const std::vector<Vec3>& 
     if (la > 0.0 && lb > 0.0) {
       Vec3 c = glm::cross(a, b);
       double cl = glm::length(c);
-      if (cl > 0.0) sum += std::atan2(cl, glm::dot(a, b)) * glm::dot(n, c) / cl;
+      if (cl > 0.0) sum += hr::edgeAngle(cl, glm::dot(a, b)) * glm::dot(n, c) / cl;
     }
     a = b, la = lb;
   }

@@ -8,13 +8,14 @@
 
 namespace hr {
 
-double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, const Vec3& pn) {
+double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, const Vec3& pn, const Vec3& centroid,
+                              double radius) {
   // The sender radiates from its front only: x must lie in front of p's plane.
   if (glm::dot(x - p.v[0], pn) <= 0.0) return 0.0;
   // Clip p to the half-space above x's tangent plane (Sutherland-Hodgman, at most 5 vertices).
   Vec3 in[5], out[5];
   int m = 0;
-  double scale = p.radius() + glm::length(p.centroid() - x);
+  double scale = radius + glm::length(centroid - x);
   double tol = 1e-12 * scale;
   for (int i = 0; i < p.n; ++i) {
     const Vec3& a = p.v[i];
@@ -27,22 +28,26 @@ double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, co
     }
   }
   if (m < 3) return 0.0;
-  for (int i = 0; i < m; ++i) in[i] = out[i] - x;
+  double len[5];
+  for (int i = 0; i < m; ++i) in[i] = out[i] - x, len[i] = glm::length(in[i]);
   double sum = 0.0;
   for (int i = 0; i < m; ++i) {
-    Vec3 a = in[i], b = in[(i + 1) % m];
-    double la = glm::length(a), lb = glm::length(b);
-    if (la == 0.0 || lb == 0.0) continue;
-    Vec3 c = glm::cross(a, b);
+    const int j = (i + 1) % m;
+    if (len[i] == 0.0 || len[j] == 0.0) continue;
+    Vec3 c = glm::cross(in[i], in[j]);
     double lc = glm::length(c);
     if (lc == 0.0) continue;
-    double theta = std::atan2(lc, glm::dot(a, b));
+    double theta = edgeAngle(lc, glm::dot(in[i], in[j]));
     sum += theta * glm::dot(c / lc, n);
   }
   // Vertices run counter-clockwise seen from the front of p, i.e. clockwise seen from x: the
   // contour sum is then negative.
   double f = -sum / (2.0 * kPi);
   return glm::clamp(f, 0.0, 1.0);
+}
+
+double pointPolygonFormFactor(const Vec3& x, const Vec3& n, const Polygon& p, const Vec3& pn) {
+  return pointPolygonFormFactor(x, n, p, pn, p.centroid(), p.radius());
 }
 
 namespace {
@@ -79,6 +84,8 @@ double meanFormFactor(const Polygon& r, const Vec3& rn, const Polygon& s, const 
                                                      GaussLegendre(6), GaussLegendre(7), GaussLegendre(8)};
   const GaussLegendre& g = rules[std::size_t(std::clamp(order, 1, 8))];
   const int n = std::clamp(order, 1, 8);
+  const Vec3 sc = s.centroid();
+  const double sr = s.radius();
   double sum = 0.0, wsum = 0.0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
@@ -95,7 +102,7 @@ double meanFormFactor(const Polygon& r, const Vec3& rn, const Polygon& s, const 
         jac = u;
       }
       double wt = g.w[i] * g.w[j] * jac;
-      sum += wt * pointPolygonFormFactor(x, rn, s, sn);
+      sum += wt * pointPolygonFormFactor(x, rn, s, sn, sc, sr);
       wsum += wt;
     }
   return wsum > 0.0 ? sum / wsum : 0.0;
