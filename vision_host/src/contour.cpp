@@ -42,10 +42,20 @@ constexpr double kSmall = 0.01;  // a piece of area below this times its squared
 }  // namespace
 
 double curvedFormFactor(const Surface& sf, const Rect& r, const Vec3& x, const Vec3& n) {
-  return CurvedPieces(sf, r).formFactor(x, n);
+  thread_local CurvedPieces pieces(sf, r);
+  pieces.reset(sf, r);
+  return pieces.formFactor(x, n);
 }
 
-CurvedPieces::CurvedPieces(const Surface& sf, const Rect& r) : sf_(sf), r_(r) {}
+CurvedPieces::CurvedPieces(const Surface& sf, const Rect& r) : sf_(&sf), r_(r) {}
+
+void CurvedPieces::reset(const Surface& sf, const Rect& r) {
+  sf_ = &sf, r_ = r;
+  std::fill(slot_.begin(), slot_.end(), -1);
+  std::fill(outlineSlot_.begin(), outlineSlot_.end(), -1);
+  p_.clear(), n_.clear();
+  outlineCount_ = 0;
+}
 
 Rect CurvedPieces::rectOf(int depth, int i, int j) const {
   const int s = kN >> depth;
@@ -59,8 +69,8 @@ std::size_t CurvedPieces::probe(int i, int j) {
   if (k < 0) {
     const double u = r_.u0 + r_.du() * (double(i) / kN), v = r_.v0 + r_.dv() * (double(j) / kN);
     k = std::int32_t(p_.size());
-    p_.push_back(sf_.point(u, v));
-    n_.push_back(sf_.normal(u, v));
+    p_.push_back(sf_->point(u, v));
+    n_.push_back(sf_->normal(u, v));
   }
   return std::size_t(k);
 }
@@ -96,16 +106,16 @@ double CurvedPieces::piece(int depth, int i, int j, const Vec3& x, const Vec3& n
     if (outlineSlot_.empty()) outlineSlot_.assign(std::size_t(((1 << (2 * (kMaxSplits + 1))) - 1) / 3), -1);
     std::int32_t& o = outlineSlot_[id];
     if (o < 0) {
-      o = std::int32_t(outlines_.size());
-      outlines_.emplace_back();
-      outline(sf_, r, outlines_.back());
+      o = std::int32_t(outlineCount_++);
+      if (outlines_.size() < outlineCount_) outlines_.emplace_back();
+      outline(*sf_, r, outlines_[std::size_t(o)]);  // (outline clears what an earlier rectangle left)
     }
     return contourFormFactor(x, n, outlines_[std::size_t(o)], true);  // clipped: chords may dip below the horizon
   }
   const std::size_t c = probe(i * s + h, j * s + h);
   const Vec3 d = x - p_[c];
   const double um = 0.5 * (r.u0 + r.u1), vm = 0.5 * (r.v0 + r.v1);
-  if (depth >= kMaxSplits || sf_.jacobian(um, vm) * r.du() * r.dv() < kSmall * glm::dot(d, d)) return diskFormFactor(sf_, r, x, n);
+  if (depth >= kMaxSplits || sf_->jacobian(um, vm) * r.du() * r.dv() < kSmall * glm::dot(d, d)) return diskFormFactor(*sf_, r, x, n);
   double sum = 0.0;
   for (int k = 0; k < 4; ++k) sum += piece(depth + 1, 2 * i + (k & 1), 2 * j + ((k >> 1) & 1), x, n);
   return sum;
@@ -136,7 +146,8 @@ void outline(const Surface& s, const Rect& r, std::vector<Vec3>& out) {
     if (out.empty() || glm::length(p - out.back()) > 1e-12 * (1.0 + glm::length(p))) out.push_back(p);
   };
   // The u-edges keep the star map's polygon vertices.
-  std::vector<double> us;
+  thread_local std::vector<double> us;  // (kept: outlines are made by the thousand)
+  us.clear();
   const int nu = segments(s, true, r), nv = segments(s, false, r);
   for (int i = 0; i <= nu; ++i) us.push_back(r.u0 + r.du() * i / nu);
   for (double b : s.breaks())
