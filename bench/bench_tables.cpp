@@ -6,8 +6,11 @@
 // clock of a shared machine drifts by tens of percent between runs), peak RSS (each solve in its own forked
 // process), BRDF evaluations and extension node visits (reflect + pull for IS; per-sample descents
 // + pull for RC), the IS/RC ratios as the paper's "percent gain" (1 - IS/RC), and the image
-// difference between the two (light sources left out). Then IS shooting against IS gathering on
-// the same scenes: time, push/pull share of it, and the most samples held in one pass/iteration.
+// difference between the two (light sources left out). RC adds each reflected sample's projection into
+// a leaf exactly (--rc-add exact, the paper's "added into this function"); a second table puts the same
+// IS runs beside RC with --rc-add recut, which re-projects the running sum and holds fewer. Then IS
+// shooting against IS gathering on the same scenes: time, push/pull share of it, and the most samples
+// held in one pass/iteration.
 // Last, the paper's Table 1 on the empty Soda Shoppe room (scenes/soda_room.json): RC with the
 // non-adaptive tetrahedron basis against the adaptive Haar basis at (max) levels 3 and 4:
 // distributions, coefficients (the paper's "triangles"), time, and the glossy floor's image error
@@ -48,7 +51,9 @@ struct Setting {
 };
 
 /// Solves `scene` with an extension and writes its first camera's image to `image` (EXR).
-Row solve(const std::string& src, const Setting& set, const char* algorithm, hr::Iteration it, const std::string& image) {
+/// rcAdd: RC's --rc-add (nullptr: its default, the exact sum).
+Row solve(const std::string& src, const Setting& set, const char* algorithm, hr::Iteration it, const std::string& image,
+          const char* rcAdd = nullptr) {
   // One thread: the CPU time of the child is then the solve's time, and other work on a shared
   // machine stretches the wall clock but not that (the ratios are taken from it).
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
@@ -61,10 +66,13 @@ Row solve(const std::string& src, const Setting& set, const char* algorithm, hr:
   o.iteration = it;
   o.maxIterations = 2000;
   auto ext = adapters::findExtension(algorithm).make();
+  std::vector<hr::OptionValue> opts;
   if (std::strcmp(set.basis, "tetra") == 0)
-    ext->configure({{"basis", "tetra"}, {"tetra-level", set.maxLevel}});
+    opts = {{"basis", "tetra"}, {"tetra-level", set.maxLevel}};
   else
-    ext->configure({{"dir-eps", set.dirEps}, {"dir-min-level", set.minLevel}, {"dir-max-level", set.maxLevel}});
+    opts = {{"dir-eps", set.dirEps}, {"dir-min-level", set.minLevel}, {"dir-max-level", set.maxLevel}};
+  if (rcAdd) opts.push_back({"rc-add", rcAdd});
+  ext->configure(opts);
   hr::Solver solver(sc, h, vis, o, ext.get());
   timespec t0{}, t1{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t0);
@@ -166,40 +174,60 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(dir);
   auto image = [&](std::size_t k, const char* what) { return (dir / (std::to_string(k) + what + ".exr")).string(); };
 
-  std::printf("Tables 2 and 3: IS vs RC, both gathering (coefficients: basis coefficients of all distributions;\n"
-              "gain = 1 - IS/RC as the paper prints it; image: rel. RMSE of RC's image against IS's, lights left out)\n");
-  std::printf("%-13s %4s %4s | %9s %9s %6s | %9s %9s %6s | %7s %7s %6s | %7s %7s | %7s %7s | %8s\n", "scene", "eps", "m/M",
-              "IS coef", "RC coef", "gain", "IS peak", "RC peak", "gain", "IS s", "RC s", "gain", "IS MB", "RC MB",
-              "BRDF", "visits", "image");
-  std::vector<Row> gathered(settings.size());
-  for (std::size_t k = 0; k < settings.size(); ++k) {
-    const Setting& set = settings[k];
-    Row is = bench::forked<Row>([&] { return solve(src, set, "is", hr::Iteration::Gather, image(k, "is")); });
-    Row rc = bench::forked<Row>([&] { return solve(src, set, "rc", hr::Iteration::Gather, image(k, "rc")); });
-    gathered[k] = is;
-    if (!is.ok || !rc.ok) {
-      std::printf("%-13s %4s %s/%s failed\n", set.scene, set.dirEps, set.minLevel, set.maxLevel);
-      continue;
+  if (!settings.empty()) {  // --table1 alone prints only Table 1
+    std::printf("Tables 2 and 3: IS vs RC, both gathering (coefficients: basis coefficients of all distributions;\n"
+                "gain = 1 - IS/RC as the paper prints it; image: rel. RMSE of RC's image against IS's, lights left out)\n");
+    std::printf("%-13s %4s %4s | %9s %9s %6s | %9s %9s %6s | %7s %7s %6s | %7s %7s | %7s %7s | %8s\n", "scene", "eps", "m/M",
+                "IS coef", "RC coef", "gain", "IS peak", "RC peak", "gain", "IS s", "RC s", "gain", "IS MB", "RC MB",
+                "BRDF", "visits", "image");
+    std::vector<Row> gathered(settings.size()), recut(settings.size());
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+      const Setting& set = settings[k];
+      Row is = bench::forked<Row>([&] { return solve(src, set, "is", hr::Iteration::Gather, image(k, "is")); });
+      Row rc = bench::forked<Row>([&] { return solve(src, set, "rc", hr::Iteration::Gather, image(k, "rc")); });
+      gathered[k] = is;
+      // The compacting variant beside it (not the paper's RC; the simple soda's would double its row's time).
+      if (std::strcmp(set.scene, "simple_soda") != 0)
+        recut[k] = bench::forked<Row>(
+            [&] { return solve(src, set, "rc", hr::Iteration::Gather, image(k, "rc_recut"), "recut"); });
+      if (!is.ok || !rc.ok) {
+        std::printf("%-13s %4s %s/%s failed\n", set.scene, set.dirEps, set.minLevel, set.maxLevel);
+        continue;
+      }
+      std::printf("%-13s %4s %s/%s  | %9.0f %9.0f %5.1f%% | %9.0f %9.0f %5.1f%% | %7.2f %7.2f %5.1f%% | %7.1f %7.1f | %7.3f %7.3f | %8.4f\n",
+                  set.scene, set.dirEps, set.minLevel, set.maxLevel, is.coefficients, rc.coefficients,
+                  100 * (1 - is.coefficients / rc.coefficients), is.peakCoefficients, rc.peakCoefficients,
+                  100 * (1 - is.peakCoefficients / rc.peakCoefficients), is.seconds, rc.seconds,
+                  100 * (1 - is.seconds / rc.seconds), is.peakRssMB, rc.peakRssMB, is.brdf / rc.brdf, is.visits / rc.visits,
+                  imageDifference(src, set, image(k, "rc"), image(k, "is")));
     }
-    std::printf("%-13s %4s %s/%s  | %9.0f %9.0f %5.1f%% | %9.0f %9.0f %5.1f%% | %7.2f %7.2f %5.1f%% | %7.1f %7.1f | %7.3f %7.3f | %8.4f\n",
-                set.scene, set.dirEps, set.minLevel, set.maxLevel, is.coefficients, rc.coefficients,
-                100 * (1 - is.coefficients / rc.coefficients), is.peakCoefficients, rc.peakCoefficients,
-                100 * (1 - is.peakCoefficients / rc.peakCoefficients), is.seconds, rc.seconds,
-                100 * (1 - is.seconds / rc.seconds), is.peakRssMB, rc.peakRssMB, is.brdf / rc.brdf, is.visits / rc.visits,
-                imageDifference(src, set, image(k, "rc"), image(k, "is")));
-  }
-  std::printf("(BRDF and visits columns: IS/RC ratios)\n\nIS shooting vs IS gathering\n");
-  std::printf("%-13s %4s %4s | %7s %7s | %8s %8s | %9s %9s | %8s\n", "scene", "eps", "m/M", "gath s", "shoot s", "gath pp",
-              "shoot pp", "gath smp", "shoot smp", "image");
-  for (std::size_t k = 0; k < settings.size(); ++k) {
-    const Setting& set = settings[k];
-    if (k > 0 && std::strcmp(set.scene, settings[k - 1].scene) == 0 && std::strcmp(set.maxLevel, "3") != 0) continue;
-    Row sh = bench::forked<Row>([&] { return solve(src, set, "is", hr::Iteration::Shoot, image(k, "shoot")); });
-    const Row& g = gathered[k];
-    if (!sh.ok || !g.ok) continue;
-    std::printf("%-13s %4s %s/%s  | %7.2f %7.2f | %7.1f%% %7.1f%% | %9.0f %9.0f | %8.4f\n", set.scene, set.dirEps,
-                set.minLevel, set.maxLevel, g.seconds, sh.seconds, 100 * g.pushPullShare, 100 * sh.pushPullShare,
-                g.samplesPeak, sh.samplesPeak, imageDifference(src, set, image(k, "shoot"), image(k, "is")));
+    std::printf("(BRDF and visits columns: IS/RC ratios; RC adds each sample's projection exactly, --rc-add exact)\n\n"
+                "The same IS runs against RC with --rc-add recut (the running sum re-projected at every sample, as\n"
+                "the pull sums: a compacting RC the paper did not run; not run on the simple soda)\n");
+    std::printf("%-13s %4s %4s | %9s %9s %6s | %9s %9s %6s | %7s %7s %6s | %8s\n", "scene", "eps", "m/M", "IS coef",
+                "RCr coef", "IS/RCr", "IS peak", "RCr peak", "IS/RCr", "IS s", "RCr s", "IS/RCr", "image");
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+      const Setting& set = settings[k];
+      const Row &is = gathered[k], &rc = recut[k];
+      if (!is.ok || !rc.ok) continue;
+      std::printf("%-13s %4s %s/%s  | %9.0f %9.0f %6.2f | %9.0f %9.0f %6.2f | %7.2f %7.2f %6.2f | %8.4f\n", set.scene,
+                  set.dirEps, set.minLevel, set.maxLevel, is.coefficients, rc.coefficients, is.coefficients / rc.coefficients,
+                  is.peakCoefficients, rc.peakCoefficients, is.peakCoefficients / rc.peakCoefficients, is.seconds,
+                  rc.seconds, is.seconds / rc.seconds, imageDifference(src, set, image(k, "rc_recut"), image(k, "is")));
+    }
+    std::printf("\nIS shooting vs IS gathering\n");
+    std::printf("%-13s %4s %4s | %7s %7s | %8s %8s | %9s %9s | %8s\n", "scene", "eps", "m/M", "gath s", "shoot s", "gath pp",
+                "shoot pp", "gath smp", "shoot smp", "image");
+    for (std::size_t k = 0; k < settings.size(); ++k) {
+      const Setting& set = settings[k];
+      if (k > 0 && std::strcmp(set.scene, settings[k - 1].scene) == 0 && std::strcmp(set.maxLevel, "3") != 0) continue;
+      Row sh = bench::forked<Row>([&] { return solve(src, set, "is", hr::Iteration::Shoot, image(k, "shoot")); });
+      const Row& g = gathered[k];
+      if (!sh.ok || !g.ok) continue;
+      std::printf("%-13s %4s %s/%s  | %7.2f %7.2f | %7.1f%% %7.1f%% | %9.0f %9.0f | %8.4f\n", set.scene, set.dirEps,
+                  set.minLevel, set.maxLevel, g.seconds, sh.seconds, 100 * g.pushPullShare, 100 * sh.pushPullShare,
+                  g.samplesPeak, sh.samplesPeak, imageDifference(src, set, image(k, "shoot"), image(k, "is")));
+    }
   }
   if (!quick && !onlySoda && !noSoda) table1(src, dir);
   std::filesystem::remove_all(dir);

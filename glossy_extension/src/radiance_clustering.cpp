@@ -17,6 +17,39 @@ struct RadianceClustering::RcCounters {
 RadianceClustering::RadianceClustering() : rc_(std::make_unique<RcCounters>()) {}
 RadianceClustering::~RadianceClustering() = default;
 
+std::vector<hr::OptionSpec> RadianceClustering::options() const {
+  std::vector<hr::OptionSpec> specs = IlluminationSamples::options();
+  specs.push_back({"rc-add", "exact (default) or recut: how a reflected sample's projection joins a leaf's new "
+                             "distribution: added exactly on the union of the two trees, as the paper's RC adds "
+                             "functions, or the sum re-projected with the relative refiner (docs/results.md)"});
+  return specs;
+}
+
+void RadianceClustering::configure(const std::vector<hr::OptionValue>& values) {
+  std::vector<hr::OptionValue> rest;
+  const hr::OptionValue* add = nullptr;
+  for (const hr::OptionValue& v : values) {
+    if (v.name != "rc-add") {
+      rest.push_back(v);
+      continue;
+    }
+    if (add) throw hr::InputError("--rc-add: given twice");
+    add = &v;
+  }
+  if (add && add->value != "exact" && add->value != "recut")
+    throw hr::InputError("--rc-add: must be exact or recut, got '" + add->value + "'");
+  recut_ = add && add->value == "recut";
+  IlluminationSamples::configure(rest);
+}
+
+bool RadianceClustering::addExactly(NodeLight& target, const NodeLight& add) const {
+  if (!target.more.empty() || !add.more.empty() || target.dist.index() != add.dist.index()) return false;
+  if (std::holds_alternative<HaarDistribution>(target.dist) && !target.frame.same(add.frame)) return false;
+  std::visit([&](auto& d) { d.add(std::get<std::decay_t<decltype(d)>>(add.dist)); }, target.dist);
+  finish(target);
+  return true;
+}
+
 void RadianceClustering::resize(std::size_t elements, std::size_t clusters) {
   IlluminationSamples::resize(elements, clusters);
   fresh_.resize(elements);
@@ -90,7 +123,7 @@ void RadianceClustering::push(hr::NodeId node, hr::IncidentSample sample, bool p
     std::int64_t before = target ? std::int64_t(glossy::coefficients(target->dist)) : 0;
     if (!target) {
       target = std::move(add);
-    } else {
+    } else if (recut_ || !addExactly(*target, *add)) {
       const NodeLight* parts[2] = {target.get(), add.get()};
       target = sum(node, parts);
     }

@@ -2,7 +2,8 @@
 // summing per-sample projections gives the light Illumination Samples get by reflecting all of a
 // leaf's samples together (an independent code path: the host's push and one projection); the new
 // light replaces the old only at the swap (Jacobi); and at its peak RC holds the old and the new
-// distribution of every leaf at once, which is the memory the paper's Table 2 charges it.
+// distribution of every leaf at once, which is the memory the paper's Table 2 charges it. Each
+// sample's projection is added into the leaf exactly (the paper's RC), unless --rc-add recut.
 #include <glossy/radiance_clustering.h>
 #include <gtest/gtest.h>
 
@@ -126,6 +127,51 @@ TEST(RadianceClustering, PeakHoldsTheOldAndTheNewLight) {
   for (NodeId leaf : leaves) leafCoefficients += double(rc.coefficients(leaf));
   // Second pass: every leaf's old light (and the pulled nodes) plus its new light, at once.
   EXPECT_EQ(stat(rc, "coefficients_held_peak"), all + leafCoefficients);
+}
+
+TEST(RadianceClustering, ALeafHoldsTheExactSumOfEachSamplesOwnProjection) {
+  // --rc-add exact (the default): the new distribution is the sum of the samples' projections one by
+  // one, so it equals what Illumination Samples gives each sample alone, summed, in every direction
+  // (float rounding of the sums only); --rc-add recut re-projects that sum and holds fewer cells.
+  Lit lit;
+  const NodeId leaf = lit.scene.floorLeaves[0];
+  auto solveRc = [&](const char* add) {
+    auto rc = std::make_unique<glossy::RadianceClustering>();
+    if (add) rc->configure({{"rc-add", add}});
+    rc->attach(lit.scene.host);
+    gatherTopDown(*rc, lit);
+    rc->reflect(leaf, {});
+    return rc;
+  };
+  auto exact = solveRc(nullptr), recut = solveRc("recut");
+  const std::vector<hr::IncidentSample> samples = lit.pushedTo(leaf);
+  ASSERT_GT(samples.size(), 5u);
+  std::vector<std::unique_ptr<hr::Extension>> alone;
+  for (const hr::IncidentSample& s : samples) {
+    alone.push_back(testhost::configured());
+    alone.back()->attach(lit.scene.host);
+    alone.back()->reflect(leaf, {&s, 1});
+  }
+  std::mt19937_64 g(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    Vec3 d(u(g), u(g), u(g));
+    if (glm::length(d) < 1e-3) continue;
+    d = glm::normalize(d);
+    Rgb sum(0.0);
+    for (const auto& e : alone) sum += e->intensity(leaf, d);
+    const Rgb got = exact->intensity(leaf, d);
+    worst = std::max(worst, hr::maxComponent(glm::abs(got - sum)) / std::max(1e-9, hr::maxComponent(sum)));
+  }
+  std::printf("exact RC against the sum of one-sample projections: worst relative difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(exact->coefficients(leaf), recut->coefficients(leaf));
+  EXPECT_LT(relDiff(exact->light(leaf)->power, recut->light(leaf)->power), 1e-5);  // both sums keep the power
+  glossy::RadianceClustering bad;
+  EXPECT_THROW(bad.configure({{"rc-add", "union"}}), hr::InputError);
+  EXPECT_THROW(bad.configure({{"rc-add", "exact"}, {"rc-add", "recut"}}), hr::InputError);
+  EXPECT_THROW(glossy::IlluminationSamples().configure({{"rc-add", "exact"}}), hr::InputError);  // RC's alone
 }
 
 }  // namespace
