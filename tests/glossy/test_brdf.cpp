@@ -1,6 +1,8 @@
 // The modified Phong model against its defining properties: reciprocity, albedo rho_d + rho_s at
-// normal incidence (a closed form), never above it elsewhere, finite and non-negative everywhere.
+// normal incidence (a closed form), never above it elsewhere, finite and non-negative everywhere; and
+// the cos^n the lobe integrals use (PhongPower) against std::pow.
 #include <glossy/brdf.h>
+#include <glossy/phong_power.h>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -87,6 +89,31 @@ TEST(Lambert, AlbedoIsRho) {
   Rgb a = glossy::albedo(b, glm::normalize(Vec3(1, 0, 1)), n);
   EXPECT_NEAR(a.y, 0.5, 1e-12);
   EXPECT_EQ(glossy::eval(b, n, n, n).y, 0.5 / kPi);
+}
+
+TEST(PhongPower, MatchesPowAndTakesAnIntegerARoundingAwayAsThatInteger) {
+  // MGF's rs 0.1 gives 2 / 0.1^2 - 2 = 197.99999999999997: the squaring chain alone (no exp2/log2).
+  const double mgf = 2.0 / (0.1 * 0.1) - 2.0;
+  ASSERT_NE(mgf, 198.0);
+  struct Case {
+    double n;
+    std::uint32_t integer;
+    double fraction;
+  };
+  for (const Case& c : {Case{mgf, 198u, 0.0}, Case{198.0, 198u, 0.0}, Case{197.5, 197u, 0.5}, Case{198.000001, 198u, 1e-6},
+                        Case{0.25, 0u, 0.25}, Case{7.0, 7u, 0.0}}) {
+    const glossy::PhongPower p(c.n);
+    EXPECT_EQ(p.integerPart(), c.integer) << c.n;
+    EXPECT_NEAR(p.fraction(), c.fraction, 1e-9) << c.n;
+    EXPECT_EQ(p.exponent(), c.n);
+    double worst = 0.0;
+    for (int k = 1; k <= 2000; ++k) {
+      const double cosine = double(k) / 2000.0;
+      const double want = cosine > p.cutoff() ? std::pow(cosine, c.n) : 0.0;
+      if (want > 0.0) worst = std::max(worst, std::abs(p(cosine) - want) / want);
+    }
+    EXPECT_LT(worst, 1e-10) << c.n;  // 69 * 1e-12 for a snapped exponent, a few ulps otherwise
+  }
 }
 
 }  // namespace

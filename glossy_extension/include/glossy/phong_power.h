@@ -19,6 +19,13 @@ class PhongPower {
     if (n_ <= kSquaringLimit) {
       integer_ = static_cast<std::uint32_t>(std::floor(n_));
       fraction_ = n_ - double(integer_);
+      // An exponent a rounding away from an integer is that integer: MGF's rs 0.1 gives 2 / 0.1^2 - 2 =
+      // 197.99999999999997, which sent every cosine of that material through exp2 and log2. Above the
+      // cutoff c^n >= 1e-30, so |ln c| <= 69 / n and the power moves by at most 69 * 1e-12 relative.
+      if (const double r = std::round(n_); r >= 1.0 && std::abs(n_ - r) <= 1e-12 * n_) {
+        integer_ = static_cast<std::uint32_t>(r);
+        fraction_ = 0.0;
+      }
     } else {
       fraction_ = n_;
     }
