@@ -11,7 +11,8 @@ build=$(cd "$1" && pwd)
 secs=${2:-60}
 shift $(( $# >= 2 ? 2 : 1 ))
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_json mgf obj ply solution)
+all=(scene_json mgf obj ply solution)
+[ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 findings="$build/fuzz-findings"
 mkdir -p "$findings"
 work=$(mktemp -d)
@@ -25,8 +26,7 @@ fuzz_one() {
   case $t in
     scene_json) cp "$root"/scenes/*.json "$corpus"/ ;;
     mgf) cp "$root"/scenes/mgf/*.mgf "$corpus"/ ;;
-    obj | ply | solution) cp "$root"/fuzz/seeds/"$t"/* "$corpus"/ ;;
-    *) echo "unknown target $t" >&2; return 2 ;;
+    *) cp "$root"/fuzz/seeds/"$t"/* "$corpus"/ ;;  # obj, ply, solution (names checked below)
   esac
   cp "$root"/tests/fuzz_regressions/"$t"/* "$corpus"/ 2>/dev/null || true
   # Inputs run from a scratch folder: a fuzzed scene may name relative files, which must not exist.
@@ -42,7 +42,7 @@ fuzz_one() {
   return $rc
 }
 for t in "${targets[@]}"; do
-  case $t in scene_json | mgf | obj | ply | solution) ;; *) echo "unknown target $t" >&2; exit 2 ;; esac
+  [[ " ${all[*]} " == *" $t "* ]] || { echo "unknown target $t (valid: ${all[*]})" >&2; exit 2; }
 done
 failed=0
 running=0
