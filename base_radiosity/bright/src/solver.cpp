@@ -43,6 +43,16 @@ struct Solver::Impl {
   Impl(const Scene& sc, Hierarchy& hi, const Visibility& v, const SolverOptions& o, Extension* e, Progress* p)
       : s(sc, hi, v, o, e), view(sc, hi, s.open), progress(p ? p : &silent) {}
 
+  /// Clusters made only of emitters (a lamp of many patches): their links carry direct light as an
+  /// emitting element's do, and take as many shadow rays (transfer.cpp).
+  void markEmitters() {
+    s.clusterEmits.assign(s.h.clusters().size(), 1);
+    for (std::size_t c = s.h.clusters().size(); c-- > 0;)
+      for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
+        s.clusterEmits[c] &= k.isCluster() ? s.clusterEmits[k.index()]
+                                           : static_cast<std::uint8_t>(luminance(s.emitted(k.index())) > 0.0);
+  }
+
   void markOwned() {
     s.clusterOwned.assign(s.h.clusters().size(), 0);
     if (!s.ext) return;
@@ -104,6 +114,7 @@ struct Solver::Impl {
       progress->note("TEST ONLY: shadow rays are never blocked (GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS=1): the answer is wrong on purpose");
     s.growArrays();
     markOwned();
+    markEmitters();
     for (const Patch& p : h.patches()) st.emittedW += kPi * s.scene.materials[p.material].emission * p.area;
     s.emittedPower = luminance(st.emittedW);
     detail::checkCanAbsorb(s);

@@ -119,6 +119,7 @@ struct SolverState {
   std::vector<double> peak;           // per cluster: its largest intensity (luminance), W/sr
   std::vector<std::uint8_t> owned;    // per element: its subtree holds a surface the extension simulates
   std::vector<std::uint8_t> clusterOwned;
+  std::vector<std::uint8_t> clusterEmits;  // per cluster: every patch in it emits (transfer.cpp's ray count)
   // How sharply simulated surfaces reflect (Extension::reflector), per material and per cluster (its
   // surfaces' largest albedo and narrowest lobe); empty without an extension that asks for it.
   std::vector<Reflector> materialReflector, clusterReflector;

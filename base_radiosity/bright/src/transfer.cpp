@@ -176,6 +176,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   int nvis = 0;
   double kidw[4] = {0, 0, 0, 0};
   Vec3 kidp[4] = {Vec3(0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0)};
+  bool kidHid[4] = {false, false, false, false};
   for (int k = 0, j = 0; k < K; ++k) {
     if (val[k] <= 0.0) continue;
     bool b = blocked[j++];
@@ -183,16 +184,40 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
     vsum += b ? 0.0 : val[k];
     kidw[k % 4] += b ? 0.0 : val[k];
     kidp[k % 4] += b ? Vec3(0.0) : val[k] * ends[k];
+    kidHid[k % 4] = kidHid[k % 4] || b;
     nvis += b ? 0 : 1;
   }
-  childWeights(re, se, kidsPoly, xs, std::min(nx, kChildWeightPoints), val, blocked, K, l.wkid);
+  // Far apart (as for the quadrature order above) the children's form factors change little across
+  // the receiver, and four points set their shares: sixteen made the children's 64 point form
+  // factors a link most of three lights' form-factor time at eps 3.5e-5 (solve 0.49 -> 0.43 s, its
+  // image the same to the bit; the Cornell boxes within 2e-6).
+  childWeights(re, se, kidsPoly, xs, std::min(nx, reach < 0.2 ? 4 : kChildWeightPoints), val, blocked, K, l.wkid);
   // Where the receiver sees each child: with the children's radiosity fits (push_pull.cpp) this
   // carries the same estimate, visible kernel over the ray ends, below the children's means.
+  // Far apart (reach as above), a child none of whose rays was blocked is seen whole, and its
+  // kernel-weighted centroid comes from fixed points (its quarters' centroids, seen from the
+  // receiver's centre): at 4 rays per link its one random ray end moved the value along the fit's
+  // gradient by up to the child's radius from seed to seed, most of three lights' seed noise on its
+  // wall (1.8 % of its pixels). Near, the kernel changes across the receiver, which points from its
+  // centre do not see, so the rays' ends (spread over the receiver too) are kept there; fixed points
+  // everywhere moved the Cornell box's short block within its seed spread (+0.62 to +1.08 % against
+  // +0.76 to +0.88 % for seeds 1-4) and broke its 1 % bar on seed 1.
   for (int k = 0; k < 4; ++k) {
     if (kidw[k] <= 0.0) continue;
     const Polygon& kid = kidsPoly[k];
     const auto [t1, t2] = planeAxes(kid, se.normal);
-    const Vec3 off = kidp[k] / kidw[k] - kid.areaCentroid();
+    Vec3 at = kidp[k] / kidw[k];
+    if (!kidHid[k] && reach < 0.3) {
+      double w = 0.0;
+      Vec3 p(0.0);
+      for (const Polygon& q : kid.subdivide()) {
+        const Vec3 y = q.areaCentroid();
+        const double kq = pointKernel(c, re.normal, y, se.normal) * q.area();
+        w += kq, p += kq * y;
+      }
+      if (w > 0.0) at = p / w;
+    }
+    const Vec3 off = at - kid.areaCentroid();
     const double r = kid.radius();
     for (int a = 0; a < 2; ++a) {
       const double u = r > 0.0 ? glm::dot(off, a == 0 ? t1 : t2) / r : 0.0;
@@ -301,9 +326,12 @@ int evaluateLink(const SolverState& s, Link& l) {
   // The oracle keeps a link whose rays agree, and at 4 rays agreement says little: penumbra links
   // whose rays all happened to see the lamp were kept at full visibility, and the Cornell box's
   // short block and the floor's shadowed crease before it came out 1.8 % bright (0.8 % at 32 rays,
-  // for 39 % more rays in all). Few links start at an emitter.
-  if (!l.sender.isCluster() && !l.receiver.isCluster() && luminance(s.emitted(l.sender.index())) > 0.0)
-    K = std::max(K, kEmitterRays);
+  // for 39 % more rays in all). Few links start at an emitter. A cluster of emitters (a lamp of
+  // many patches) sends the same light: at 4 rays its shadows on three lights' floor (each disk 16
+  // patches) were most of shooting's seed-to-seed noise there (1.13 % of the image; 0.66 % at 32).
+  const bool emits = l.sender.isCluster() ? s.clusterEmits[l.sender.index()] != 0
+                                          : luminance(s.emitted(l.sender.index())) > 0.0;
+  if (!l.receiver.isCluster() && emits) K = std::max(K, kEmitterRays);
   RayCount rc = trace(s, l, dist, K);
   int rays = rc.traced;
   // Partly visible links: the visible fraction from K rays has a standard error of about
