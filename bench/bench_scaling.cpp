@@ -1,9 +1,10 @@
 // Parallel scaling of the solver and the reference tracer, in one run: the Soda Shoppe (straight from
-// its MGF file) and the Cornell box at a fine threshold are solved, and the Cornell box path-traced at
+// its MGF file), the Cornell box at a fine threshold and the three-lights scene with the glossy
+// extension (Illumination Samples, its own settings) are solved, and the Cornell box path-traced at
 // 256 spp, with 1, 2, 4, ... threads up to the machine's cores. Per phase: wall time, speedup over
 // one thread, parallel efficiency and CPU time / wall time (CPU of the whole process while the phase
 // ran). Each run is a forked child, so that thread pools and memory start fresh.
-//   bench_scaling [SOURCE_DIR] [--quick]   (--quick: Cornell at 2e-4 and 32 spp only)
+//   bench_scaling [SOURCE_DIR] [--quick]   (--quick: Cornell at 2e-4, three lights and 32 spp only)
 #include <hr/output.h>
 #include <hr/solution.h>
 #include <hr/solver.h>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "bench_common.h"
+#include "registry.h"
 
 namespace {
 
@@ -41,16 +43,18 @@ double cpuNow() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-Row solveRun(const std::string& scene, double eps, int threads) {
+/// eps <= 0: the scene's own; algorithm: an extension from the table, or empty for the core alone.
+Row solveRun(const std::string& scene, double eps, int threads, const std::string& algorithm) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   hr::Scene sc = scene.empty() ? hr::defaultScene() : hr::loadScene(scene);
   hr::TessellationReport rep;
   hr::Hierarchy h(hr::buildPatches(sc, rep));
   hr::Visibility vis(h.patches());
   hr::SolverOptions o = hr::SolverOptions::from(sc.settings);
-  o.eps = eps;
+  if (eps > 0.0) o.eps = eps;
+  auto ext = algorithm.empty() ? nullptr : adapters::findExtension(algorithm).make();
   double c0 = cpuNow();
-  hr::Solver solver(sc, h, vis, o);
+  hr::Solver solver(sc, h, vis, o, ext.get());
   hr::SolveStats st = solver.solve();
   Row r;
   const hr::PhaseStat* ph[5] = {&st.visibility, &st.refine, &st.gather, &st.pushPull, &st.energy};
@@ -63,7 +67,7 @@ Row solveRun(const std::string& scene, double eps, int threads) {
   const double d0 = cpuNow();
   const auto w0 = std::chrono::steady_clock::now();
   hr::Solution sol = hr::makeSolution(sc, h, solver.radiosity());
-  for (const hr::Camera& cam : sol.cameras) (void)hr::render(sol, cam);
+  for (const hr::Camera& cam : sol.cameras) (void)hr::render(sol, cam, ext.get());
   r.wall[5] = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
   r.cpu[5] = cpuNow() - d0;
   r.ok = true;
@@ -127,13 +131,15 @@ int main(int argc, char** argv) {
   struct Job {
     std::string title, scene;
     double eps;
+    std::string algorithm;
   };
   std::vector<Job> jobs;
-  if (!quick) jobs.push_back({"solve: Soda Shoppe (scenes/mgf/soda.mgf), eps 2e-4", src + "/scenes/mgf/soda.mgf", 2e-4});
-  jobs.push_back({quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5});
+  if (!quick) jobs.push_back({"solve: Soda Shoppe (scenes/mgf/soda.mgf), eps 2e-4", src + "/scenes/mgf/soda.mgf", 2e-4, ""});
+  jobs.push_back({quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5, ""});
+  jobs.push_back({"solve: three lights, glossy (--algorithm is), its own settings", src + "/scenes/three_lights.json", 0.0, "is"});
   for (const Job& j : jobs) {
     std::vector<Row> rows;
-    for (int t : threads) rows.push_back(bench::forked<Row>([&] { return solveRun(j.scene, j.eps, t); }));
+    for (int t : threads) rows.push_back(bench::forked<Row>([&] { return solveRun(j.scene, j.eps, t, j.algorithm); }));
     table(j.title.c_str(), threads, rows, true);
   }
   const int spp = quick ? 32 : 256;
