@@ -18,6 +18,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "../helpers.h"
 #include "../test_dir.h"
@@ -131,10 +132,12 @@ TEST(VisionGlossyCli, ThreeLightsAgainstTheOtherHostAndRenderedBack) {
   const fs::path dir = testutil::testDir();
   const std::string scene = std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json", lights = " --exclude 3,4,5";
   std::string out;
-  for (const char* run : {"vision --algorithm is", "bright --algorithm is", "vision --algorithm diffuse"}) {
-    std::string name = std::string(run).substr(0, 6) + std::string(run).substr(std::string(run).rfind(' ') + 1);
+  // The diffuse run only shows that the spots matter (0.24 away): a coarser eps spares its time.
+  const std::pair<const char*, const char*> runs[] = {{"visionis", "vision --algorithm is"},
+                                                       {"brightis", "bright --algorithm is"},
+                                                       {"visiondiffuse", "vision --algorithm diffuse --eps 1e-4"}};
+  for (const auto& [name, run] : runs)
     ASSERT_EQ(testutil::runCli("solve " + scene + " --host " + run + " --quiet -o " + (dir / name).string(), out), 0) << out;
-  }
   const std::string vis = (dir / "visionis" / "overview.exr").string(), bri = (dir / "brightis" / "overview.exr").string();
   // Issue 14's bar between the hosts, 0.05, at the scene's own settings. At eps 1e-4 the two lay
   // 0.078 apart, most of it the BRIGHT-like host's floor under the reflector's coloured shadows (its
