@@ -134,12 +134,16 @@ int main(int argc, char** argv) {
     std::string algorithm;
   };
   std::vector<Job> jobs;
-  if (!quick) jobs.push_back({"solve: Soda Shoppe (scenes/mgf/soda.mgf), eps 2e-4", src + "/scenes/mgf/soda.mgf", 2e-4, ""});
-  jobs.push_back({quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5, ""});
-  jobs.push_back({"solve: three lights, glossy (--algorithm is), its own settings", src + "/scenes/three_lights.json", 0.0, "is"});
+  if (!quick)
+    jobs.push_back({"solve: Soda Shoppe (scenes/mgf/soda.mgf), eps 2e-4", src + "/scenes/mgf/soda.mgf", 2e-4, ""});
+  jobs.push_back(
+      {quick ? "solve: Cornell box, eps 2e-4" : "solve: Cornell box, eps 5e-5", "", quick ? 2e-4 : 5e-5, ""});
+  jobs.push_back({"solve: three lights, glossy (--algorithm is), its own settings",
+                  src + "/scenes/three_lights.json", 0.0, "is"});
   for (const Job& j : jobs) {
     std::vector<Row> rows;
-    for (int t : threads) rows.push_back(bench::forked<Row>([&] { return solveRun(j.scene, j.eps, t, j.algorithm); }));
+    for (int t : threads)
+      rows.push_back(bench::forked<Row>([&] { return solveRun(j.scene, j.eps, t, j.algorithm); }));
     table(j.title.c_str(), threads, rows, true);
   }
   const int spp = quick ? 32 : 256;

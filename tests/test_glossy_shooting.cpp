@@ -49,9 +49,10 @@ ref::Metrics lightsMasked(const Solve& a, const Solve& b) {
   return ref::compare(a.image, b.image, -1, "A", "B", hr::emitterObjects(a.solved.scene));
 }
 
-hr::SolverOptions optionsOf(const std::string& scene, double eps) {
+/// A scene's own settings, with eps replaced when one is given.
+hr::SolverOptions optionsOf(const std::string& scene, double eps = 0.0) {
   hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(sceneText(scene), "").settings);
-  o.eps = eps;
+  if (eps > 0.0) o.eps = eps;
   return o;
 }
 
@@ -66,15 +67,18 @@ double balance(const testutil::Solved& s, int c) {
 // seeds 1-3, each scheme 0.95 / 1.31 % from itself), most of it the lamps' shadows on the floor at 4
 // rays per cluster link; 32 since, as for a one-patch emitter (transfer.cpp): at the scene's eps
 // 4e-5, 0.91 / 0.60 / 0.61 % for seeds 1-3 (1.28 / 1.09 / 0.93 % at 3.5e-5 before; docs/results.md).
-// Bars: RMSE 1 %, means 0.5 %, energy 1 %.
+// This is one seed's draw (the default, 1) of a gap that lies within the schemes' own seed spread
+// (gathering 1.02 %, shooting 0.70 % from itself at 4e-5): a change to the random streams can move
+// it by that much, and then the seeds are what to look at. Bars: RMSE 1 %, means 0.5 %, energy 1 %.
 TEST(GlossyShooting, ThreeLightsImageAgreesWithGathering) {
-  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(sceneText("three_lights.json"), "").settings);
+  hr::SolverOptions o = optionsOf("three_lights.json");
   Solve g = solve("three_lights.json", o, "is");
   o.iteration = hr::Iteration::Shoot;
   Solve s = solve("three_lights.json", o, "is");
   ASSERT_TRUE(s.solved.stats.converged);
   ref::Metrics m = lightsMasked(s, g);
-  std::printf("three lights (eps %g): shoot vs gather rel RMSE %.4f, mean ratio %.4f; samples per pass/iteration at most %zu vs %zu\n",
+  std::printf("three lights (eps %g): shoot vs gather rel RMSE %.4f, mean ratio %.4f; samples per "
+              "pass/iteration at most %zu vs %zu\n",
               o.eps, m.relRmse, m.meanRatio, s.solved.stats.peakSamples, g.solved.stats.peakSamples);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.005);
   EXPECT_LT(m.relRmse, 0.01);

@@ -132,10 +132,12 @@ TEST(VisionGlossyCli, ThreeLightsAgainstTheOtherHostAndRenderedBack) {
   const fs::path dir = testutil::testDir();
   const std::string scene = std::string(GHR_SOURCE_DIR) + "/scenes/three_lights.json", lights = " --exclude 3,4,5";
   std::string out;
-  // The diffuse run only shows that the spots matter (0.24 away): a coarser eps spares its time.
-  const std::pair<const char*, const char*> runs[] = {{"visionis", "vision --algorithm is"},
-                                                       {"brightis", "bright --algorithm is"},
-                                                       {"visiondiffuse", "vision --algorithm diffuse --eps 1e-4"}};
+  // The diffuse run only shows that the spots matter (at eps 1e-4 it lies 0.238 from the glossy
+  // BRIGHT-like image at the scene's 4e-5; the bar below is 0.2): a coarser eps spares its time.
+  const std::pair<const char*, const char*> runs[] = {
+      {"visionis", "vision --algorithm is"},
+      {"brightis", "bright --algorithm is"},
+      {"visiondiffuse", "vision --algorithm diffuse --eps 1e-4"}};
   for (const auto& [name, run] : runs)
     ASSERT_EQ(testutil::runCli("solve " + scene + " --host " + run + " --quiet -o " + (dir / name).string(), out), 0) << out;
   const std::string vis = (dir / "visionis" / "overview.exr").string(), bri = (dir / "brightis" / "overview.exr").string();

@@ -104,7 +104,7 @@ audit::Totals auditEnergy(SolverState& s) {
   std::vector<LeafAudit> per(els.size());
   // A few leaves hold most of the rays (rays follow power: a lamp's leaves, first in element order),
   // and the automatic partitioner handed them to one thread as one piece (three lights' audit ran
-  // 1.14 times in parallel on two threads), so the range is split down to 16 leaves a task. Each
+  // 1.14 times in parallel on two threads), so the range is split down to 16 elements a task. Each
   // leaf's rays and sum are its own: the same bits either way.
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, els.size(), 16),

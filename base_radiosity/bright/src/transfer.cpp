@@ -23,7 +23,8 @@ double pointKernel(const Vec3& x, const Vec3& nx, const Vec3& y, const Vec3& ny)
 constexpr int kMaxRays = 256;
 /// Shadow rays at least, on a link whose receiver is partly under a coplanar cover (evaluateLink).
 constexpr int kCoverRays = 32;
-/// Shadow rays at least, on a link between elements whose sender emits (evaluateLink).
+/// Shadow rays at least, on a link to an element whose sender emits: an emitting element, or a
+/// cluster made only of emitters (evaluateLink).
 constexpr int kEmitterRays = 32;
 /// Draws per receiver point to find the open part of a partly covered receiver.
 constexpr int kOpenTries = 16;
@@ -46,25 +47,35 @@ void liftPair(const SolverState& s, const Vec3& x, const Vec3& nx, const Vec3& y
   to = y + ny * std::min(eps, 0.25 * std::max(hy, 0.0));
 }
 
-/// Receiver points at which each sender child's form factor is taken (childWeights).
-constexpr int kChildWeightPoints = 16;
+/// Receiver points at which each sender child's form factor is taken (childWeights): at most 16,
+/// and 4 on far links.
+constexpr int kChildWeightPoints = 16, kFarChildWeightPoints = 4;
+/// Far links: (r_s + r_r) / d below these, the integrands over the two elements are smooth enough
+/// for a cheaper estimate (evaluateElementLink: the quadrature's order, the children's shares, where
+/// a child is seen).
+constexpr double kFarReach = 0.2, kMidReach = 0.3;
 
 /// Each sender child's share of the link as the receiver sees it (Link::wkid): the child's form
-/// factor from the receiver, averaged over the rays' receiver points xs, times the visible fraction
+/// factor from the receiver, averaged over `points` of the rays' nx receiver points xs spread evenly
+/// through them (the points are stratified in order, so the first few share a corner), times the
+/// visible fraction
 /// of the rays that ended in it, over the four children's form factors. The share was the visible
 /// point kernel of the child's one ray (at 4 rays per link) over all rays' kernels: a ratio of
 /// heavy-tailed samples where a sender meets its receiver (a block's face and the floor at its
 /// foot: cos cos / r^2 without bound), which on average understated the child at the contact and
 /// lit the Cornell box's short block 0.4 % too much (mean of three seeds). val, blocked: the rays'
 /// kernels (0 where not traced) and, for the traced ones in order, their outcomes.
-void childWeights(const Element& re, const Element& se, const std::array<Polygon, 4>& kids, const Vec3* xs, int points,
-                  const double* val, const bool* blocked, int K, float* wkid) {
+void childWeights(const Element& re, const Element& se, const std::array<Polygon, 4>& kids,
+                  const Vec3* xs, int nx, int points, const double* val, const bool* blocked, int K,
+                  float* wkid) {
   double F[4] = {0, 0, 0, 0}, seen[4] = {0, 0, 0, 0}, vis[4] = {0, 0, 0, 0};
   Vec3 kc[4];
   double kr[4];
   for (int q = 0; q < 4; ++q) kc[q] = kids[q].centroid(), kr[q] = kids[q].radius();
+  points = std::min(points, nx);
   for (int m = 0; m < points; ++m)
-    for (int q = 0; q < 4; ++q) F[q] += pointPolygonFormFactor(xs[m], re.normal, kids[q], se.normal, kc[q], kr[q]);
+    for (int q = 0; q < 4; ++q)
+      F[q] += pointPolygonFormFactor(xs[m * nx / points], re.normal, kids[q], se.normal, kc[q], kr[q]);
   double all = 0.0, open = 0.0;
   for (int k = 0, j = 0; k < K; ++k) {
     if (val[k] <= 0.0) continue;
@@ -118,7 +129,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   // the centres' distance (73 % of the links) and order 3 at most 2.8e-6 under 0.3 (81 %), far below
   // the visible fraction's noise; that halves the form factor's share of a solve (37 %, perf).
   const double reach = (s.h.radius(l.sender) + s.h.radius(l.receiver)) / glm::length(se.center - re.center);
-  const int order = reach < 0.2 ? 2 : reach < 0.3 ? 3 : hi - lo > 0.5 * hi ? 6 : 4;
+  const int order = reach < kFarReach ? 2 : reach < kMidReach ? 3 : hi - lo > 0.5 * hi ? 6 : 4;
   double fmean = se.area < re.area
                      ? se.area / re.area * meanFormFactor(se.poly, se.normal, re.poly, re.normal, order)
                      : meanFormFactor(re.poly, re.normal, se.poly, se.normal, order);
@@ -187,27 +198,28 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
     kidHid[k % 4] = kidHid[k % 4] || b;
     nvis += b ? 0 : 1;
   }
-  // Far apart (as for the quadrature order above) the children's form factors change little across
-  // the receiver, and four points set their shares: sixteen made the children's 64 point form
-  // factors a link most of three lights' form-factor time at eps 3.5e-5 (solve 0.49 -> 0.43 s, its
-  // image the same to the bit; the Cornell boxes within 2e-6).
-  childWeights(re, se, kidsPoly, xs, std::min(nx, reach < 0.2 ? 4 : kChildWeightPoints), val, blocked, K, l.wkid);
+  // Far apart (kFarReach, as for the quadrature order above) the children's form factors change
+  // little across the receiver, and four points set their shares: on links of 16 rays or more
+  // (emitters' 32) sixteen made the children's 64 point form factors most of three lights'
+  // form-factor time at eps 3.5e-5 (its solve 0.50 -> 0.43 s).
+  const int childPoints = reach < kFarReach ? kFarChildWeightPoints : kChildWeightPoints;
+  childWeights(re, se, kidsPoly, xs, nx, childPoints, val, blocked, K, l.wkid);
   // Where the receiver sees each child: with the children's radiosity fits (push_pull.cpp) this
   // carries the same estimate, visible kernel over the ray ends, below the children's means.
-  // Far apart (reach as above), a child none of whose rays was blocked is seen whole, and its
+  // Far apart (kMidReach), a child none of whose rays was blocked is seen whole, and its
   // kernel-weighted centroid comes from fixed points (its quarters' centroids, seen from the
   // receiver's centre): at 4 rays per link its one random ray end moved the value along the fit's
   // gradient by up to the child's radius from seed to seed, most of three lights' seed noise on its
   // wall (1.8 % of its pixels). Near, the kernel changes across the receiver, which points from its
   // centre do not see, so the rays' ends (spread over the receiver too) are kept there; fixed points
-  // everywhere moved the Cornell box's short block within its seed spread (+0.62 to +1.08 % against
-  // +0.76 to +0.88 % for seeds 1-4) and broke its 1 % bar on seed 1.
+  // everywhere widened the Cornell box's short block's seed spread (+0.62 to +1.08 % against +0.76
+  // to +0.88 % for seeds 1-4) and broke its 1 % bar on seed 1.
   for (int k = 0; k < 4; ++k) {
     if (kidw[k] <= 0.0) continue;
     const Polygon& kid = kidsPoly[k];
     const auto [t1, t2] = planeAxes(kid, se.normal);
     Vec3 at = kidp[k] / kidw[k];
-    if (!kidHid[k] && reach < 0.3) {
+    if (!kidHid[k] && reach < kMidReach) {
       double w = 0.0;
       Vec3 p(0.0);
       for (const Polygon& q : kid.subdivide()) {
