@@ -97,17 +97,10 @@ hr::audit::Totals auditEnergy(const State& s) {
     if (s.owned(*e)) sent += hr::luminance(s.ext->reflectedPower(hr::NodeId{e->id}));
   }
   std::vector<LeafAudit> per(leaves.size());
-  // Pieces of 16 leaves, as the BRIGHT-like host's audit (energy_audit.cpp: rays follow power, and
-  // the automatic partitioner left a lamp's many leaves to one thread). Here a lamp kept whole is
-  // one leaf, whose rays stay on one thread (three lights: 1.3 times in parallel on two threads,
-  // either way). Each leaf's rays and sum are its own: the same bits either way.
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
-      [&](const auto& r) {
-        hr::markThread(s.auditThreads);
-        for (std::size_t i = r.begin(); i != r.end(); ++i) auditLeaf(s, *leaves[i], i, sent, per[i]);
-      },
-      tbb::simple_partitioner());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const auto& r) {
+    hr::markThread(s.auditThreads);
+    for (std::size_t i = r.begin(); i != r.end(); ++i) auditLeaf(s, *leaves[i], i, sent, per[i]);
+  });
   hr::audit::Totals res = hr::audit::sum(per);
   s.rays += res.rays;
   return res;

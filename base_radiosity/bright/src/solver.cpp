@@ -49,8 +49,7 @@ struct Solver::Impl {
     s.clusterEmits.assign(s.h.clusters().size(), 1);
     for (std::size_t c = s.h.clusters().size(); c-- > 0;)
       for (NodeId k : s.h.cluster(static_cast<std::uint32_t>(c)).children)
-        s.clusterEmits[c] &= k.isCluster() ? s.clusterEmits[k.index()]
-                                           : static_cast<std::uint8_t>(luminance(s.emitted(k.index())) > 0.0);
+        s.clusterEmits[c] &= static_cast<std::uint8_t>(s.emits(k));  // children's entries are set
   }
 
   void markOwned() {

@@ -157,6 +157,11 @@ struct SolverState {
   /// The area of element e no coplanar patch covers, m^2: what its radiosity and irradiance apply to.
   double openArea(std::uint32_t e) const { return h.element(e).area * double(open[e]); }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
+  /// Whether a node sends direct light: an emitting element, or a cluster made only of emitters
+  /// (clusterEmits; transfer.cpp gives its links an emitter's shadow rays).
+  bool emits(NodeId n) const {
+    return n.isCluster() ? clusterEmits[n.index()] != 0 : luminance(emitted(n.index())) > 0.0;
+  }
   /// A simulated node's Reflector (albedo 0 when none is known).
   Reflector reflector(NodeId n) const {
     if (materialReflector.empty()) return {};

@@ -341,9 +341,7 @@ int evaluateLink(const SolverState& s, Link& l) {
   // for 39 % more rays in all). Few links start at an emitter. A cluster of emitters (a lamp of
   // many patches) sends the same light: at 4 rays its shadows on three lights' floor (each disk 16
   // patches) were most of shooting's seed-to-seed noise there (1.13 % of the image; 0.66 % at 32).
-  const bool emits = l.sender.isCluster() ? s.clusterEmits[l.sender.index()] != 0
-                                          : luminance(s.emitted(l.sender.index())) > 0.0;
-  if (!l.receiver.isCluster() && emits) K = std::max(K, kEmitterRays);
+  if (!l.receiver.isCluster() && s.emits(l.sender)) K = std::max(K, kEmitterRays);
   RayCount rc = trace(s, l, dist, K);
   int rays = rc.traced;
   // Partly visible links: the visible fraction from K rays has a standard error of about

@@ -7,22 +7,6 @@
 
 namespace hr {
 
-namespace {
-
-/// Whether x lies strictly inside every edge of poly (in the plane with normal n): the sign of
-/// Polygon::insideness without its per-edge lengths, which only ranking points outside needs.
-bool strictlyInside(const Polygon& poly, const Vec3& x, const Vec3& n) {
-  for (int i = 0; i < poly.n; ++i) {
-    const Vec3& a = poly.v[i];
-    const Vec3 e = poly.v[(i + 1) % poly.n] - a;
-    if (glm::dot(e, e) == 0.0) continue;  // as insideness skips a zero-length edge
-    if (!(glm::dot(glm::cross(e, x - a), n) > 0.0)) return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) {
   std::uint32_t e = patch;
   const Vec3& n = s.patches[patch].normal;
@@ -33,7 +17,7 @@ std::uint32_t locateLeaf(const Solution& s, std::uint32_t patch, const Vec3& x) 
     std::uint32_t best = first;
     bool found = false;
     for (std::uint32_t k = 0; k < 4 && !found; ++k)
-      if (strictlyInside(s.elements[first + k].poly, x, n)) best = first + k, found = true;
+      if (s.elements[first + k].poly.strictlyInside(x, n)) best = first + k, found = true;
     if (!found) {
       // On an edge or just outside every child (rounding): the child it is least outside of.
       double bestIn = -std::numeric_limits<double>::infinity();

@@ -97,6 +97,17 @@ struct Polygon {
     }
     return m;
   }
+  /// Whether p lies strictly inside every edge (in the plane with normal nrm): insideness > 0 by its
+  /// signs alone, without the per-edge lengths that only ranking points outside needs.
+  bool strictlyInside(const Vec3& p, const Vec3& nrm) const {
+    for (int i = 0; i < n; ++i) {
+      const Vec3& a = v[i];
+      const Vec3 e = v[(i + 1) % n] - a;
+      if (glm::dot(e, e) == 0.0) continue;  // as insideness skips a zero-length edge
+      if (!(glm::dot(glm::cross(e, p - a), nrm) > 0.0)) return false;
+    }
+    return true;
+  }
 };
 
 }  // namespace hr
