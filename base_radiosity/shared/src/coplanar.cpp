@@ -38,24 +38,33 @@ bool inside(const Polygon& p, const Vec3& n, const Vec3& x) {
 }  // namespace
 
 CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : patches_(&patches) {
-  // Buckets keyed by the quantised plane; neighbours in key space are not searched, so two planes
-  // that straddle a quantisation step are missed: acceptable, the step is far above the tolerance's
-  // scale only for near-identical planes, which round alike.
+  // Buckets keyed by the quantised normal (either facing) and the plane's offset in steps of the
+  // largest gap that may count (step); each bucket is searched together with the next one, so two
+  // planes within a step of each other always meet. Normals that straddle a quantisation step
+  // (1e-6) are missed: acceptable, near-identical normals round alike.
+  double step = tol;
+  for (const Patch& p : patches) step = std::max(step, kNearGap * p.poly.radius());
+  step = std::max(step, 1e-300);
   using Key = std::tuple<long long, long long, long long, long long>;
   std::map<Key, std::vector<std::uint32_t>> buckets;
+  std::vector<double> offset(patches.size());
+  auto canonical = [](Vec3 n) { return n.x < 0.0 || (n.x == 0.0 && (n.y < 0.0 || (n.y == 0.0 && n.z < 0.0))) ? -n : n; };
   for (std::uint32_t i = 0; i < patches.size(); ++i) {
     const Patch& p = patches[i];
     // Opposite normals share a bucket: faces in contact (a lamp lying on a box's bottom) pair too.
-    Vec3 n = p.normal;
-    if (n.x < 0.0 || (n.x == 0.0 && (n.y < 0.0 || (n.y == 0.0 && n.z < 0.0)))) n = -n;
-    auto q = [](double v, double step) { return static_cast<long long>(std::llround(v / step)); };
-    buckets[{q(n.x, 1e-6), q(n.y, 1e-6), q(n.z, 1e-6), q(glm::dot(n, p.poly.v[0]), std::max(tol, 1e-300))}].push_back(i);
+    Vec3 n = canonical(p.normal);
+    offset[i] = glm::dot(n, p.poly.v[0]);
+    auto q = [](double v, double st) { return static_cast<long long>(std::floor(v / st)); };
+    buckets[{q(n.x, 1e-6), q(n.y, 1e-6), q(n.z, 1e-6), q(offset[i], step)}].push_back(i);
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (covered, cover)
-  for (auto& [key, ids] : buckets) {
+  for (auto& [key, own] : buckets) {
+    std::vector<std::uint32_t> ids = own;
+    auto next = buckets.find({std::get<0>(key), std::get<1>(key), std::get<2>(key), std::get<3>(key) + 1});
+    if (next != buckets.end()) ids.insert(ids.end(), next->second.begin(), next->second.end());
     if (ids.size() < 2) continue;
     // Sweep along one in-plane axis so that only patches whose extents overlap are paired.
-    const Vec3& n = patches[ids[0]].normal;
+    const Vec3 n = canonical(patches[ids[0]].normal);
     Vec3 t = std::abs(n.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
     Vec3 u = glm::normalize(glm::cross(t, n));
     auto lo = [&](std::uint32_t i) {
@@ -72,19 +81,31 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
     for (std::size_t a = 0; a < ids.size(); ++a)
       for (std::size_t b = a + 1; b < ids.size() && lo(ids[b]) < hi(ids[a]); ++b) {
         std::uint32_t i = ids[a], j = ids[b];
+        const bool opposite = glm::dot(patches[i].normal, patches[j].normal) < 0.0;
+        const bool flush = std::abs(offset[i] - offset[j]) <= tol;
+        if (opposite && !flush) continue;  // facing each other across a gap: light passes between
+        bool iSmaller = patches[i].area < patches[j].area || (patches[i].area == patches[j].area && i > j);
+        const std::uint32_t small = iSmaller ? i : j, large = iSmaller ? j : i;
+        if (!flush) {
+          // Parallel and facing the same way: the smaller covers the larger only from in front of
+          // it, within a hundredth of its own size (kNearGap).
+          const double gap = glm::dot(patches[large].normal, patches[small].poly.v[0] - patches[large].poly.v[0]);
+          if (!(gap > 0.0 && gap <= kNearGap * patches[small].poly.radius())) continue;
+        }
         if (!interiorsOverlap(patches[i].poly, patches[j].poly, n, tol)) continue;
-        if (glm::dot(patches[i].normal, patches[j].normal) < 0.0) {
+        if (opposite) {
           // Faces in contact hide each other: light between touching opaque faces never gets out.
           pairs.emplace_back(i, j);
           pairs.emplace_back(j, i);
           continue;
         }
-        bool iSmaller = patches[i].area < patches[j].area || (patches[i].area == patches[j].area && i > j);
-        pairs.emplace_back(iSmaller ? j : i, iSmaller ? i : j);
+        pairs.emplace_back(large, small);
       }
   }
-  if (pairs.empty()) return;
+  // A pair within one bucket was met twice (with the bucket below and the one above).
   std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (pairs.empty()) return;
   first_.assign(patches.size() + 1, 0);
   for (const auto& pr : pairs) ++first_[pr.first + 1];
   for (std::size_t i = 1; i < first_.size(); ++i) first_[i] += first_[i - 1];
