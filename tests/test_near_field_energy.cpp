@@ -176,8 +176,9 @@ TEST(Covers, ACeilingBesideAPanelJustUnderItIsAsBrightAsTheRest) {
 }
 
 // Which parallel patches cover which (coplanar.h): flush, or the smaller one in front within
-// kNearGap of its radius and facing the same way; never from behind, from further away, or facing
-// the other across a gap (a lamp shining into the ceiling 1 mm above it lights it).
+// kNearGap of its size across and facing the same way; never from behind, from further away, or
+// facing the other across a gap (a lamp shining into the ceiling 1 mm above it lights it). A long
+// thin strip (a baseboard's face, 5 cm by 2 m) covers only as far as its width allows.
 TEST(Covers, ANearParallelPatchCoversOnlyFromInFrontAndClose) {
   auto quad = [](double y, double h, bool down) {
     hr::Patch p;
@@ -194,14 +195,18 @@ TEST(Covers, ANearParallelPatchCoversOnlyFromInFrontAndClose) {
     hr::CoplanarCover c(patches, 1e-5);
     return c.coverOf(0, under) == 1;
   };
-  // The panel's radius is 0.2 sqrt 2 = 0.283 m, so kNearGap allows 2.8 mm.
+  // The panel's size across (2 A / perimeter) is 0.2 m, so kNearGap allows 2 mm.
   EXPECT_TRUE(coveredAt(quad(1.0, 0.2, true))) << "flush";
   EXPECT_TRUE(coveredAt(quad(0.999, 0.2, true))) << "1 mm in front";
-  EXPECT_TRUE(coveredAt(quad(0.9975, 0.2, true))) << "2.5 mm in front";
-  EXPECT_FALSE(coveredAt(quad(0.996, 0.2, true))) << "4 mm in front: light reaches under it";
+  EXPECT_TRUE(coveredAt(quad(0.9981, 0.2, true))) << "1.9 mm in front";
+  EXPECT_FALSE(coveredAt(quad(0.9975, 0.2, true))) << "2.5 mm in front: light reaches under it";
   EXPECT_FALSE(coveredAt(quad(1.001, 0.2, true))) << "1 mm behind";
   EXPECT_FALSE(coveredAt(quad(0.999, 0.2, false))) << "facing the ceiling 1 mm under it";
   EXPECT_TRUE(coveredAt(quad(1.0, 0.2, false))) << "faces in contact";
+  hr::Patch strip = quad(0.995, 0.025, true);  // 5 cm wide, 5 mm in front...
+  for (hr::Vec3& v : strip.poly.v) v.x *= 40.0;  // ...and 2 m long: radius 1 m, size across 4.9 cm
+  strip.area *= 40.0;
+  EXPECT_FALSE(coveredAt(strip)) << "a strip 5 cm wide, 5 mm in front";
 }
 
 }  // namespace

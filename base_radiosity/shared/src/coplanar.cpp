@@ -29,6 +29,14 @@ bool interiorsOverlap(const Polygon& a, const Polygon& b, const Vec3& n, double 
   return true;
 }
 
+/// 2 A / perimeter, a convex patch's size across: a square's half side, a disk's radius, a long
+/// strip's width (its radius would be half its length).
+double across(const Patch& p) {
+  double perimeter = 0.0;
+  for (int i = 0; i < p.poly.n; ++i) perimeter += glm::length(p.poly.v[(i + 1) % p.poly.n] - p.poly.v[i]);
+  return perimeter > 0.0 ? 2.0 * p.area / perimeter : 0.0;
+}
+
 bool inside(const Polygon& p, const Vec3& n, const Vec3& x) {
   for (int i = 0; i < p.n; ++i)
     if (glm::dot(glm::cross(p.v[(i + 1) % p.n] - p.v[i], x - p.v[i]), n) < 0.0) return false;
@@ -43,7 +51,7 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
   // planes within a step of each other always meet. Normals that straddle a quantisation step
   // (1e-6) are missed: acceptable, near-identical normals round alike.
   double step = tol;
-  for (const Patch& p : patches) step = std::max(step, kNearGap * p.poly.radius());
+  for (const Patch& p : patches) step = std::max(step, kNearGap * across(p));
   step = std::max(step, 1e-300);
   using Key = std::tuple<long long, long long, long long, long long>;
   std::map<Key, std::vector<std::uint32_t>> buckets;
@@ -88,9 +96,9 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
         const std::uint32_t small = iSmaller ? i : j, large = iSmaller ? j : i;
         if (!flush) {
           // Parallel and facing the same way: the smaller covers the larger only from in front of
-          // it, within a hundredth of its own size (kNearGap).
+          // it, within a hundredth of its size across (kNearGap).
           const double gap = glm::dot(patches[large].normal, patches[small].poly.v[0] - patches[large].poly.v[0]);
-          if (!(gap > 0.0 && gap <= kNearGap * patches[small].poly.radius())) continue;
+          if (!(gap > 0.0 && gap <= kNearGap * across(patches[small]))) continue;
         }
         if (!interiorsOverlap(patches[i].poly, patches[j].poly, n, tol)) continue;
         if (opposite) {

@@ -5,7 +5,7 @@
 // contact (one plane, opposite facing: a lamp lying on a box's bottom) hide each other, since light
 // trapped between touching opaque faces is absorbed there. A smaller patch a little in front of a
 // larger one, facing the same way (the Cornell box's lamp 1 mm under its ceiling), covers it too:
-// the ceiling above the lamp gets no light through a slit a few hundredths of the lamp's size, and
+// the ceiling above the lamp gets no light through a slit a hundredth of the lamp's size, and
 // averaging that dark part into the ceiling elements that straddle the lamp's outline showed their
 // open part as a dark rim (2-3.5 % off on the ceiling, more with fewer rays per link). Links, the
 // energy audit and images all ask the same question, so the answer is consistent.
@@ -16,7 +16,8 @@
 
 namespace hr {
 
-/// The widest gap, as a share of the covering patch's radius, at which a parallel patch in front of
+/// The widest gap, as a share of the covering patch's size across (2 A / perimeter, not its radius:
+/// light reaches under a long thin strip from its sides), at which a parallel patch in front of
 /// another still covers it.
 inline constexpr double kNearGap = 0.01;
 
