@@ -175,10 +175,11 @@ TEST(Covers, ACeilingBesideAPanelJustUnderItIsAsBrightAsTheRest) {
                            outside);
 }
 
-// Which parallel patches cover which (coplanar.h): flush, or the smaller one in front within
-// kNearGap of its size across and facing the same way; never from behind, from further away, or
-// facing the other across a gap (a lamp shining into the ceiling 1 mm above it lights it). A long
-// thin strip (a baseboard's face, 5 cm by 2 m) covers only as far as its width allows.
+// Which parallel patches cover which (coplanar.h): flush, the smaller; with a gap, facing the same
+// way, the one in front, whichever is larger, within kNearGap of its size across; never the one in
+// front, nor from further away, nor facing the other across a gap (a lamp shining into the ceiling 1 mm above
+// it lights it). A long thin strip (a baseboard's face, 5 cm by 2 m) covers only as far as its width
+// allows. Each pair is found once, one way (faces in contact: both ways).
 TEST(Covers, ANearParallelPatchCoversOnlyFromInFrontAndClose) {
   auto quad = [](double y, double h, bool down) {
     hr::Patch p;
@@ -189,24 +190,39 @@ TEST(Covers, ANearParallelPatchCoversOnlyFromInFrontAndClose) {
     p.area = 4 * h * h;
     return p;
   };
-  const hr::Vec3 under(0.0, 1.0, 0.0);  // a point of the ceiling above the panel's centre
-  auto coveredAt = [&](const hr::Patch& panel) {
-    std::vector<hr::Patch> patches = {quad(1.0, 1.0, true), panel};
+  const hr::Patch ceiling = quad(1.0, 1.0, true);
+  // Whether `front` covers `back` at their centres' line, and that `back` does not cover `front`
+  // (unless they are faces in contact) and the pair is there once.
+  auto covers = [](const hr::Patch& back, const hr::Patch& front) {
+    std::vector<hr::Patch> patches = {back, front};
     hr::CoplanarCover c(patches, 1e-5);
-    return c.coverOf(0, under) == 1;
+    const hr::Vec3 onBack(0.0, back.poly.v[0].y, 0.0), onFront(0.0, front.poly.v[0].y, 0.0);
+    const bool yes = c.coverOf(0, onBack) == 1;
+    const bool contact = glm::dot(back.normal, front.normal) < 0.0;
+    EXPECT_EQ(c.coverOf(1, onFront) == 0, yes && contact) << "the other way";
+    EXPECT_EQ(c.pairs(), yes ? (contact ? 2u : 1u) : 0u);
+    return yes;
   };
   // The panel's size across (2 A / perimeter) is 0.2 m, so kNearGap allows 2 mm.
-  EXPECT_TRUE(coveredAt(quad(1.0, 0.2, true))) << "flush";
-  EXPECT_TRUE(coveredAt(quad(0.999, 0.2, true))) << "1 mm in front";
-  EXPECT_TRUE(coveredAt(quad(0.9981, 0.2, true))) << "1.9 mm in front";
-  EXPECT_FALSE(coveredAt(quad(0.9975, 0.2, true))) << "2.5 mm in front: light reaches under it";
-  EXPECT_FALSE(coveredAt(quad(1.001, 0.2, true))) << "1 mm behind";
-  EXPECT_FALSE(coveredAt(quad(0.999, 0.2, false))) << "facing the ceiling 1 mm under it";
-  EXPECT_TRUE(coveredAt(quad(1.0, 0.2, false))) << "faces in contact";
-  hr::Patch strip = quad(0.995, 0.025, true);  // 5 cm wide, 5 mm in front...
-  for (hr::Vec3& v : strip.poly.v) v.x *= 40.0;  // ...and 2 m long: radius 1 m, size across 4.9 cm
-  strip.area *= 40.0;
-  EXPECT_FALSE(coveredAt(strip)) << "a strip 5 cm wide, 5 mm in front";
+  EXPECT_TRUE(covers(ceiling, quad(1.0, 0.2, true))) << "flush";
+  EXPECT_TRUE(covers(ceiling, quad(0.999, 0.2, true))) << "1 mm in front";
+  EXPECT_TRUE(covers(ceiling, quad(0.9981, 0.2, true))) << "1.9 mm in front";
+  EXPECT_FALSE(covers(ceiling, quad(0.9975, 0.2, true))) << "2.5 mm in front: light reaches under it";
+  EXPECT_TRUE(covers(quad(1.001, 0.2, true), ceiling)) << "a panel 1 mm behind is covered by the ceiling, not it";
+  EXPECT_FALSE(covers(ceiling, quad(0.999, 0.2, false))) << "facing the ceiling 1 mm under it";
+  EXPECT_TRUE(covers(ceiling, quad(1.0, 0.2, false))) << "faces in contact";
+  EXPECT_TRUE(covers(quad(1.0, 0.1, true), quad(0.999, 0.25, true))) << "a lamp 1 mm under a smaller ceiling tile";
+  hr::Patch turned = quad(1.0, 0.2, false);
+  turned.normal.x = -6e-17;  // as a transform leaves an axis-aligned normal
+  EXPECT_TRUE(covers(ceiling, turned)) << "faces in contact, one normal off its axis by -6e-17";
+  auto strip = [&](double y) {
+    hr::Patch p = quad(y, 0.025, true);                   // 5 cm wide...
+    for (int k = 0; k < p.poly.n; ++k) p.poly.v[k].x *= 40.0;  // ...and 2 m long: radius 1 m, size across 4.9 cm
+    p.area *= 40.0;
+    return p;
+  };
+  EXPECT_TRUE(covers(ceiling, strip(0.9997))) << "a strip 5 cm wide, 0.3 mm in front";
+  EXPECT_FALSE(covers(ceiling, strip(0.995))) << "a strip 5 cm wide, 5 mm in front";
 }
 
 }  // namespace

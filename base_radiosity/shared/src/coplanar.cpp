@@ -1,7 +1,8 @@
-// Coplanar overlap detection: patches are bucketed by their plane (quantised normal and offset, either
-// facing), and
-// pairs inside a bucket are tested for interior overlap of their convex polygons (separating axes in
-// the plane), so adjacent faces of one mesh, which only share an edge, do not count.
+// Coplanar and near-coplanar overlap detection: patches are bucketed by their quantised normal
+// (either facing) and their plane's offset in steps of the widest gap that may count; pairs within
+// a bucket and the next one are tested for the gap rule (coplanar.h) and for interior overlap of
+// their convex polygons (separating axes in the plane), so adjacent faces of one mesh, which only
+// share an edge, do not count.
 #include <hr/coplanar.h>
 
 #include <algorithm>
@@ -48,22 +49,28 @@ bool inside(const Polygon& p, const Vec3& n, const Vec3& x) {
 CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : patches_(&patches) {
   // Buckets keyed by the quantised normal (either facing) and the plane's offset in steps of the
   // largest gap that may count (step); each bucket is searched together with the next one, so two
-  // planes within a step of each other always meet. Normals that straddle a quantisation step
-  // (1e-6) are missed: acceptable, near-identical normals round alike.
+  // planes within a step of each other always meet. Normals are rounded to the nearest 1e-6, so that
+  // an axis-aligned normal's zero and a transform's -6e-17 fall together; two normals that straddle
+  // a rounding boundary are missed: acceptable, it takes a normal half a step off an axis.
   double step = tol;
   for (const Patch& p : patches) step = std::max(step, kNearGap * across(p));
   step = std::max(step, 1e-300);
   using Key = std::tuple<long long, long long, long long, long long>;
   std::map<Key, std::vector<std::uint32_t>> buckets;
   std::vector<double> offset(patches.size());
-  auto canonical = [](Vec3 n) { return n.x < 0.0 || (n.x == 0.0 && (n.y < 0.0 || (n.y == 0.0 && n.z < 0.0))) ? -n : n; };
   for (std::uint32_t i = 0; i < patches.size(); ++i) {
     const Patch& p = patches[i];
     // Opposite normals share a bucket: faces in contact (a lamp lying on a box's bottom) pair too.
-    Vec3 n = canonical(p.normal);
-    offset[i] = glm::dot(n, p.poly.v[0]);
-    auto q = [](double v, double st) { return static_cast<long long>(std::floor(v / st)); };
-    buckets[{q(n.x, 1e-6), q(n.y, 1e-6), q(n.z, 1e-6), q(offset[i], step)}].push_back(i);
+    // The sign is chosen on the rounded normal, so that a transform's -6e-17 in place of a 0 does
+    // not turn one of two opposite faces the other way.
+    long long r[3];
+    for (int k = 0; k < 3; ++k) r[k] = static_cast<long long>(std::llround(p.normal[k] / 1e-6));
+    const bool flip = r[0] < 0 || (r[0] == 0 && (r[1] < 0 || (r[1] == 0 && r[2] < 0)));
+    const double sign = flip ? -1.0 : 1.0;
+    offset[i] = sign * glm::dot(p.normal, p.poly.v[0]);
+    // Clamped before the cast (a scaled-down scene far from the origin: out of range is undefined).
+    const double slab = std::clamp(std::floor(offset[i] / step), -4e18, 4e18);
+    buckets[{flip ? -r[0] : r[0], flip ? -r[1] : r[1], flip ? -r[2] : r[2], static_cast<long long>(slab)}].push_back(i);
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (covered, cover)
   for (auto& [key, own] : buckets) {
@@ -72,7 +79,7 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
     if (next != buckets.end()) ids.insert(ids.end(), next->second.begin(), next->second.end());
     if (ids.size() < 2) continue;
     // Sweep along one in-plane axis so that only patches whose extents overlap are paired.
-    const Vec3 n = canonical(patches[ids[0]].normal);
+    const Vec3 n = patches[ids[0]].normal;
     Vec3 t = std::abs(n.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
     Vec3 u = glm::normalize(glm::cross(t, n));
     auto lo = [&](std::uint32_t i) {
@@ -92,13 +99,15 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
         const bool opposite = glm::dot(patches[i].normal, patches[j].normal) < 0.0;
         const bool flush = std::abs(offset[i] - offset[j]) <= tol;
         if (opposite && !flush) continue;  // facing each other across a gap: light passes between
+        // Flush: the smaller covers the larger. With a gap (same facing): the one in front covers
+        // the one behind, whatever their sizes (a lamp 1 mm under a ceiling of smaller tiles), within
+        // a hundredth of the front one's size across (kNearGap).
         bool iSmaller = patches[i].area < patches[j].area || (patches[i].area == patches[j].area && i > j);
-        const std::uint32_t small = iSmaller ? i : j, large = iSmaller ? j : i;
+        std::uint32_t cover = iSmaller ? i : j, covered = iSmaller ? j : i;
         if (!flush) {
-          // Parallel and facing the same way: the smaller covers the larger only from in front of
-          // it, within a hundredth of its size across (kNearGap).
-          const double gap = glm::dot(patches[large].normal, patches[small].poly.v[0] - patches[large].poly.v[0]);
-          if (!(gap > 0.0 && gap <= kNearGap * across(patches[small]))) continue;
+          const double gap = glm::dot(patches[j].normal, patches[i].poly.v[0] - patches[j].poly.v[0]);  // i over j
+          cover = gap > 0.0 ? i : j, covered = gap > 0.0 ? j : i;
+          if (!(std::abs(gap) <= kNearGap * across(patches[cover]))) continue;
         }
         if (!interiorsOverlap(patches[i].poly, patches[j].poly, n, tol)) continue;
         if (opposite) {
@@ -107,7 +116,7 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
           pairs.emplace_back(j, i);
           continue;
         }
-        pairs.emplace_back(large, small);
+        pairs.emplace_back(covered, cover);
       }
   }
   // A pair within one bucket was met twice (with the bucket below and the one above).

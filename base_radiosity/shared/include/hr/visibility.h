@@ -33,9 +33,10 @@ class Visibility {
   /// itself and, within epsilon() of org, on patches in its plane facing its way are ignored. Two
   /// surfaces closer than the lift of a lifted origin (facing lamps 1e-6 m apart) stay apart.
   SurfaceHit intersectFrom(const Vec3& org, const Vec3& dir, std::uint32_t from) const;
-  /// The patch that covers point x of patch p where coplanar patches overlap (coplanar.h), or kNone.
+  /// The patch that covers point x of patch p where coplanar or near-coplanar patches overlap
+  /// (coplanar.h), or kNone.
   std::uint32_t coverOf(std::uint32_t p, const Vec3& x) const;
-  /// Whether any coplanar patch covers part of patch p (coverOf can answer other than kNone).
+  /// Whether any patch covers part of patch p (coverOf can answer other than kNone).
   bool partlyCovered(std::uint32_t p) const;
   /// The closest hit of each ray org[i] + t dir[i], t > 0, as intersect() answers one; traced 16 at a
   /// time (rtcIntersect16) so that a batch of rays, coherent or not, shares the call and node tests.
