@@ -35,11 +35,13 @@ double worstObjectDifference(const testutil::Solved& a, const testutil::Solved& 
 // Both schemes converge to the same answer as the threshold falls, but not at the same rate:
 // shooters are patches, so shooting never sends through cluster senders (intensity tables, far-field
 // model) as gathering does, and each scheme's discretisation error is its own. Worst object and
-// channel, |shoot / gather - 1| (floor, green): 0.89 % at eps 2e-4, 0.34-0.63 % at 5e-5 (seeds 1,
-// 2), 0.10-0.21 % at 2e-5 (seeds 1-3); gathering's own seed-to-seed spread is 0.1 %. The bar
-// (0.5 %) is held where the schemes' difference is below it for every seed tried: eps 2e-5.
+// channel, |shoot / gather - 1|, seeds 1-3 (2026-12-05): 0.27 / 0.40 / 0.41 % at the scene's eps
+// 2e-4 (1.09 / 0.31 / 0.49 % before the lamp, 1 mm under the ceiling, covered the ceiling's rim
+// around it: coplanar.h, kNearGap), 0.20 / 0.14 / 0.17 % at 1e-4, 0.36 / 0.19 / 0.11 % at 5e-5,
+// 0.05 % at 2e-5 (seed 2), where this test ran until then. 1e-4 keeps a margin for every seed tried
+// at a fifth of the time.
 TEST(Shooting, AgreesWithGatheringOnTheCornellBox) {
-  hr::SolverOptions o = testutil::options(2e-5, 7);
+  hr::SolverOptions o = testutil::options(1e-4, 7);
   o.tolerance = 1e-5;
   o.seed = 2;
   auto g = testutil::solveText(hr::kDefaultSceneJson, o);
@@ -47,7 +49,7 @@ TEST(Shooting, AgreesWithGatheringOnTheCornellBox) {
   ASSERT_TRUE(g.stats.converged);
   ASSERT_TRUE(s.stats.converged);
   double worst = worstObjectDifference(s, g);
-  std::printf("Cornell box, eps 2e-5: worst object mean shoot/gather - 1 = %.3g (%d passes, %d iterations)\n", worst,
+  std::printf("Cornell box, eps 1e-4: worst object mean shoot/gather - 1 = %.3g (%d passes, %d iterations)\n", worst,
               s.stats.iterations, g.stats.iterations);
   EXPECT_LT(worst, 0.005);
   for (const auto* r : {&g, &s})
