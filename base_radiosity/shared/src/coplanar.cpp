@@ -52,8 +52,9 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
   // planes within a step of each other always meet. Normals are rounded to the nearest 1e-6, so that
   // an axis-aligned normal's zero and a transform's -6e-17 fall together; two normals that straddle
   // a rounding boundary are missed: acceptable, it takes a normal half a step off an axis.
+  std::vector<double> reach(patches.size());  // the widest gap at which each patch covers
   double step = tol;
-  for (const Patch& p : patches) step = std::max(step, kNearGap * across(p));
+  for (std::size_t i = 0; i < patches.size(); ++i) step = std::max(step, reach[i] = kNearGap * across(patches[i]));
   step = std::max(step, 1e-300);
   using Key = std::tuple<long long, long long, long long, long long>;
   std::map<Key, std::vector<std::uint32_t>> buckets;
@@ -107,7 +108,7 @@ CoplanarCover::CoplanarCover(const std::vector<Patch>& patches, double tol) : pa
         if (!flush) {
           const double gap = glm::dot(patches[j].normal, patches[i].poly.v[0] - patches[j].poly.v[0]);  // i over j
           cover = gap > 0.0 ? i : j, covered = gap > 0.0 ? j : i;
-          if (!(std::abs(gap) <= kNearGap * across(patches[cover]))) continue;
+          if (!(std::abs(gap) <= reach[cover])) continue;
         }
         if (!interiorsOverlap(patches[i].poly, patches[j].poly, n, tol)) continue;
         if (opposite) {
