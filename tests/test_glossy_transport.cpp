@@ -472,21 +472,47 @@ TEST(GlossyTransport, AMirrorReflectsANearCardAsTheGeometrySays) {
   EXPECT_LE(sharp.relRmse, 0.15);
 }
 
+/// The glossy Cornell box at a coarse eps (2e-3), gathered and then shot: f(scene text, options, scheme).
+template <class F>
+void onGlossyCornellAtACoarseEps(F&& f) {
+  const std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/glossy_cornell.json");
+  for (hr::Iteration it : {hr::Iteration::Gather, hr::Iteration::Shoot}) {
+    hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "glossy_cornell.json").settings);
+    o.eps = 2e-3;
+    o.iteration = it;
+    f(json, o, it == hr::Iteration::Gather ? "gathering" : "shooting");
+  }
+}
+
+TEST(GlossyTransport, EverySampleALeafReflectsPointsAtItsSenderFromThatLeaf) {
+  // Samples the host carries down from a link's receiver (or a cluster above) are re-aimed from each
+  // child's centre (hr::aimFrom): at every glossy leaf of the glossy Cornell box, the leaf's centre
+  // plus a sample's distance along its direction lands on a node's centre (its sender's) within
+  // 0.1 mm, for gathering and shooting. Without the re-aiming, a sample from an ancestor points from
+  // the ancestor's centre and misses (the tall block mirrored the short one smeared upward).
+  onGlossyCornellAtACoarseEps([](const std::string& json, const hr::SolverOptions& o, const char* scheme) {
+    testutil::AimChecker ext;
+    testutil::solveText(json, o, &ext);
+    std::printf("%s: %llu samples at leaves checked, %llu missed their sender, %llu of unknown distance\n", scheme,
+                (unsigned long long)ext.checked.load(), (unsigned long long)ext.missed.load(),
+                (unsigned long long)ext.unknown.load());
+    EXPECT_GT(ext.checked.load(), 10000u) << scheme;
+    EXPECT_EQ(ext.missed.load(), 0u) << scheme;
+    EXPECT_EQ(ext.unknown.load(), 0u) << scheme;
+  });
+}
+
 TEST(GlossyTransport, ReflectionInLayersGivesTheWholeSampleListsAnswer) {
   // The glossy Cornell box (two glossy materials, n 60 and 300) at a coarse eps, solved with the
-  // host handing inner elements' samples to the extension once per subtree (Extension::reflectShared)
-  // and with every leaf given all of its and its ancestors' samples: every glossy leaf reflects the
+  // host handing inner elements' samples to the extension once per subtree (Extension::reflectShared;
+  // here all of them, near senders too, none re-aimed: testutil::LayersTakingAll) and with every leaf
+  // given all of its and its ancestors' samples: every glossy leaf reflects the
   // same power within 1e-4 (merging groups samples per layer instead of per leaf: a few directions
   // move by less than 1/16 of a lobe's width), radiosity within 1e-4; the layers did take most samples.
   // Gathering, and shooting, whose passes reflect in batches (a layer must not outlive its batch, and
   // a leaf whose samples an ancestor took all still adds that layer).
-  const std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/glossy_cornell.json");
-  for (hr::Iteration it : {hr::Iteration::Gather, hr::Iteration::Shoot}) {
-    const char* scheme = it == hr::Iteration::Gather ? "gathering" : "shooting";
-    hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "glossy_cornell.json").settings);
-    o.eps = 2e-3;
-    o.iteration = it;
-    auto layered = makeIs();
+  onGlossyCornellAtACoarseEps([](const std::string& json, const hr::SolverOptions& o, const char* scheme) {
+    auto layered = std::make_unique<testutil::LayersTakingAll>();
     testutil::WholeSampleLists whole;
     auto a = testutil::solveText(json, o, layered.get());
     auto b = testutil::solveText(json, o, &whole);
@@ -506,5 +532,5 @@ TEST(GlossyTransport, ReflectionInLayersGivesTheWholeSampleListsAnswer) {
     std::printf("%s, worst leaf: reflected power %.2e, radiosity %.2e (relative)\n", scheme, worstPower, worstB);
     EXPECT_LT(worstPower, 1e-4) << scheme;
     EXPECT_LT(worstB, 1e-4) << scheme;
-  }
+  });
 }

@@ -137,7 +137,7 @@ class Adapter final : public hr::Extension {
   }
   hr::Rgb unshotPower(hr::NodeId n) const override { return in_->unshotPower(n); }
   void reflectShot(hr::NodeId l, std::span<const hr::IncidentSample> s) override { in_->reflectShot(l, s); }
-  bool reflectShared(hr::NodeId e, std::span<const hr::IncidentSample> s) override { return in_->reflectShared(e, s); }
+  std::size_t reflectShared(hr::NodeId e, std::span<hr::IncidentSample> s) override { return in_->reflectShared(e, s); }
   void shot(hr::NodeId n) override { in_->shot(n); }
   hr::Rgb reflectedPower(hr::NodeId l) const override { return in_->reflectedPower(l); }
   hr::Rgb sampleExitant(hr::NodeId l, double u1, double u2, hr::Vec3& d) const override {

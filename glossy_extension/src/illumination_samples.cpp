@@ -93,7 +93,7 @@ hr::Reflector IlluminationSamples::reflector(const hr::MaterialInfo& m) const {
   if (refineReflections_ == ReflectionRefine::Off || !simulates(m)) return {};
   // A Phong lobe cos^n falls to 1/e at sqrt(2/n) from the mirror direction; the normalised lobe's
   // albedo is at most its specular coefficient (at normal incidence).
-  double width = m.exponent > 0.0 ? std::min(0.5 * kPi, std::sqrt(2.0 / m.exponent)) : 0.5 * kPi;
+  double width = lobeWidth(m.exponent);
   // cell: no finer than the material's Haar cells, which hold the reflected image at their own
   // resolution (the glossy Soda Shoppe's polished brass, n = 10^4: a lobe of 0.8 degrees in cells of
   // 2.8 degrees at level 5). Not the default: finer receivers still place the cells' values more
@@ -233,8 +233,8 @@ void IlluminationSamples::gather(hr::NodeId, std::span<const hr::IncidentSample>
   Counters::add(counters_->gatherCalls, 1);
 }
 
-bool IlluminationSamples::reflectShared(hr::NodeId element, std::span<const hr::IncidentSample> samples) {
-  if (element.isCluster() || !view_ || element.index() >= layers_.size()) return false;
+std::size_t IlluminationSamples::reflectShared(hr::NodeId element, std::span<hr::IncidentSample> samples) {
+  if (element.isCluster() || !view_ || element.index() >= layers_.size()) return samples.size();
   const std::uint32_t e = element.index(), from = layerFrom_[e];
   const hr::NodeInfo info = view_->info(element);
   auto children = view_->children(element);
@@ -247,12 +247,22 @@ bool IlluminationSamples::reflectShared(hr::NodeId element, std::span<const hr::
     if (from != hr::kNone) throw std::logic_error("reflectShared: a shared layer above an element it cannot take");
     for (hr::NodeId c : children)
       if (!c.isCluster() && c.index() < layerFrom_.size()) layerFrom_[c.index()] = hr::kNone;
-    return false;
+    return samples.size();
   }
   const hr::MaterialInfo m = view_->material(info.material);
+  // Parallax: a sample is the same for every leaf below only while the subtree, seen from its sender,
+  // spans less than what the leaf's distribution resolves (the lobe, or the Haar cell if wider); a
+  // nearer sender is left to the host, which re-aims it from each leaf (the glossy Cornell box's tall
+  // block mirrored the short block 0.3 m away smeared upward from one direction per 30 cm element).
+  const double resolved = std::max(lobeWidth(m.exponent), cellSize(materialLevel(info.material)));
+  const double half = 0.5 * info.bounds.diagonal();
+  auto aimed = std::stable_partition(samples.begin(), samples.end(), [&](const hr::IncidentSample& s) {
+    return s.distance > 0.0 && half > resolved * s.distance;
+  });
+  const std::span<const hr::IncidentSample> taken(aimed, samples.end());
   ReflectCounts rc;
   // Per unit area: each leaf scales the sums by its own area, as its own samples' lobes are.
-  LobeSet lobes = makeLobes(samples, Frame::around(info.normal), info.normal, 1.0, m.specular, m.exponent,
+  LobeSet lobes = makeLobes(taken, Frame::around(info.normal), info.normal, 1.0, m.specular, m.exponent,
                             mergeAngle(m.exponent), rc);
   std::uint32_t reach = from;
   if (!lobes.samples.empty()) {
@@ -263,7 +273,7 @@ bool IlluminationSamples::reflectShared(hr::NodeId element, std::span<const hr::
   for (hr::NodeId c : children) layerFrom_[c.index()] = reach;
   counters_->add(rc);
   Counters::add(counters_->sharedLayers, 1);
-  return true;
+  return std::size_t(aimed - samples.begin());
 }
 
 std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(hr::NodeId leaf,

@@ -112,7 +112,14 @@ void RadianceClustering::push(hr::NodeId node, hr::IncidentSample sample, bool p
     planar = true;
   }
   if (!kids.empty()) {
-    for (hr::NodeId k : kids) push(k, sample, planar);
+    // Each child sees a near sender from its own centre, as Illumination Samples' leaves do (the
+    // host re-aims what it carries down): the baseline gets the same parallax as the method.
+    const hr::Vec3 from = view_->info(node).center;
+    for (hr::NodeId k : kids) {
+      hr::IncidentSample mine = sample;
+      hr::aimFrom(mine, from, view_->info(k).center);
+      push(k, mine, planar);
+    }
     return;
   }
   std::uint64_t t0 = threadCpuNs();

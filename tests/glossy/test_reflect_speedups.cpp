@@ -230,6 +230,40 @@ std::vector<hr::IncidentSample> spiralSamples(int first, int count) {
   return out;
 }
 
+TEST(ReflectShared, TakesFarSendersAndLeavesNearOnesToBeReAimed) {
+  // The floor (1 m^2, its box 1 m x 1 m: half-diagonal 0.707 m) of n = 300, whose leaves resolve
+  // max(lobe sqrt(2/300) = 0.082, Haar cell at level 4 = 0.098) rad: a sender seen from the floor
+  // within that is one direction for every leaf (farther than 0.707 / 0.098 = 7.2 m); a nearer one
+  // is left in front, in its order, for the host to re-aim from each child; an unknown distance is
+  // taken as before samples had one.
+  testhost::Scene sc(300.0);
+  sc.host.node(sc.floor).info.bounds = hr::Aabb{Vec3(-0.5, -0.5, 0.0), Vec3(0.5, 0.5, 0.0)};
+  auto a = testhost::configured();
+  a->attach(sc.host);
+  const double limit = 0.5 * std::sqrt(2.0) / std::max(std::sqrt(2.0 / 300.0), 0.5 * kPi / 16.0);
+  auto at = [](double theta, double distance) {
+    hr::IncidentSample s = testhost::sample(testhost::around(Vec3(0, 0, 1), theta), Rgb(1.0));
+    s.distance = distance;
+    return s;
+  };
+  std::vector<hr::IncidentSample> samples = {at(0.1, 0.0), at(0.2, 0.5), at(0.3, 1.02 * limit),
+                                             at(0.4, 0.98 * limit), at(0.5, 20.0), at(0.6, 3.0)};
+  ASSERT_EQ(a->reflectShared(sc.floor, samples), 3u);
+  EXPECT_EQ(samples[0].distance, 0.5);
+  EXPECT_EQ(samples[1].distance, 0.98 * limit);
+  EXPECT_EQ(samples[2].distance, 3.0);
+  // The leaves get the layer of the three far samples: each leaf's light is theirs alone.
+  std::vector<hr::IncidentSample> far = {at(0.1, 0.0), at(0.3, 1.02 * limit), at(0.5, 20.0)};
+  auto b = testhost::configured();
+  b->attach(sc.host);
+  a->reflect(sc.floorLeaves[0], {});
+  b->reflect(sc.floorLeaves[0], far);
+  ASSERT_TRUE(a->light(sc.floorLeaves[0]) && b->light(sc.floorLeaves[0]));
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(a->light(sc.floorLeaves[0])->power[c], b->light(sc.floorLeaves[0])->power[c],
+                1e-9 * b->light(sc.floorLeaves[0])->power[c]);
+}
+
 TEST(ReflectShared, LeavesGetWhatTheirWholeSampleListsWouldGive) {
   // The floor (1 m^2) split into four, its first quarter split again. Reflected in layers (the floor's
   // samples once, the quarter's once, each leaf's own) and reflected whole (every leaf all of its and
@@ -241,8 +275,10 @@ TEST(ReflectShared, LeavesGetWhatTheirWholeSampleListsWouldGive) {
   a->attach(layered.host);
   b->attach(whole.host);
   const auto top = spiralSamples(0, 16), mid = spiralSamples(16, 8);
-  ASSERT_TRUE(a->reflectShared(layered.floor, top));
-  ASSERT_TRUE(a->reflectShared(layered.floorLeaves[0], mid));
+  // Samples of unknown distance are taken whole (none left for the host to carry).
+  std::vector<hr::IncidentSample> topTaken = top, midTaken = mid;
+  ASSERT_EQ(a->reflectShared(layered.floor, topTaken), 0u);
+  ASSERT_EQ(a->reflectShared(layered.floorLeaves[0], midTaken), 0u);
   std::vector<std::pair<NodeId, std::vector<hr::IncidentSample>>> leaves;  // each leaf and its own samples
   for (std::size_t k = 0; k < deep.size(); ++k) leaves.push_back({deep[k], spiralSamples(24 + int(k), 1)});
   for (std::size_t k = 1; k < 4; ++k) leaves.push_back({layered.floorLeaves[k], spiralSamples(28 + 2 * int(k), 2)});

@@ -20,6 +20,7 @@ constexpr double kW[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
 struct Chain {
   const std::vector<ClusterSample>* here = nullptr;
   const Chain* up = nullptr;
+  Vec3 centre{0.0};  // the cluster's, where its samples were taken
 };
 
 /// Irradiance from every sample of the chain on a surface point of unit normal n: sum E_perp max(0, n.w).
@@ -57,12 +58,17 @@ Rgb onLeaf(const Chain* c, const Surface& sf, const Rect& r) {
   return a > 0.0 ? E / a : Rgb(0.0);
 }
 
-/// The chain's samples as the extension's samples on a leaf (or on a whole flat surface).
-void chainSamples(const Chain* c, const Surface& sf, const Rect& r, std::vector<hr::IncidentSample>& out) {
+/// The chain's samples as the extension's samples on a leaf (or on a whole flat surface) whose
+/// centre is `at`.
+void chainSamples(const Chain* c, const Surface& sf, const Rect& r, const Vec3& at, std::vector<hr::IncidentSample>& out) {
   for (; c; c = c->up)
     if (c->here)
       for (const ClusterSample& x : *c->here)
-        if (double k = meanCosine(sf, r, x.toSender); k > 0.0) out.push_back({x.toSender, x.Eperp * k});
+        if (double k = meanCosine(sf, r, x.toSender); k > 0.0) {
+          hr::IncidentSample s{x.toSender, x.Eperp * k, x.distance};
+          hr::aimFrom(s, c->centre, at);
+          out.push_back(s);
+        }
 }
 
 class PushPull {
@@ -72,7 +78,7 @@ class PushPull {
   void cluster(std::uint32_t ci, const Chain* up) {
     hr::markThread(s_.pushThreads);
     Cluster& c = s_.h.clusters()[ci];
-    Chain here{&s_.samples[ci], up};
+    Chain here{&s_.samples[ci], up, c.g.center};
     const std::size_t n = c.clusters.size() + c.surfaces.size();
     auto child = [&](std::size_t k) {
       if (k < c.clusters.size()) {
@@ -103,7 +109,7 @@ class PushPull {
                bool layered) {
     const Surface& sf = s_.h.surfaces()[e.surface];
     if (root && chain && sf.planar()) {
-      if (samples) chainSamples(chain, sf, e.rect, *samples);
+      if (samples) chainSamples(chain, sf, e.rect, e.g.center, *samples);
       down += onPlane(chain, sf.normal(0.5, 0.5));
       chain = nullptr;
     }
@@ -112,8 +118,12 @@ class PushPull {
     e.arrivals.clear();
     // An inner element of a flat surface offers what reached it to the extension, which may reflect
     // it once for every leaf below (a curved surface's leaves face apart: the extension declines).
-    if (samples && !e.leaf() && sf.planar() && s_.ext->reflectShared(hr::NodeId{e.id}, *samples))
-      samples->clear(), mark = 0, layered = true;
+    if (samples && !e.leaf() && sf.planar()) {
+      const std::size_t left = s_.ext->reflectShared(hr::NodeId{e.id}, *samples);
+      layered = layered || left < samples->size();
+      samples->resize(left);
+      mark = std::min(mark, left);
+    }
     const Rgb total = down + e.E;
     e.E = Rgb(0.0);
     if (e.leaf() && !push_) {
@@ -126,7 +136,7 @@ class PushPull {
       e.U = dB;
       e.P = e.g.area * dB;
       if (samples) {
-        if (chain) chainSamples(chain, sf, e.rect, *samples);
+        if (chain) chainSamples(chain, sf, e.rect, e.g.center, *samples);
         s_.handed.fetch_add(samples->size(), std::memory_order_relaxed);
         if (!samples->empty() || layered) s_.ext->reflectShot(hr::NodeId{e.id}, *samples);
       }
@@ -137,6 +147,7 @@ class PushPull {
         // Each child with its own copy of the samples so far, in parallel (reflection is costly).
         tbb::parallel_for(0, int(e.nkids), [&](int k) {
           std::vector<hr::IncidentSample> mine(*samples);
+          for (hr::IncidentSample& x : mine) hr::aimFrom(x, e.g.center, e.kids[k].g.center);
           element(e.kids[k], total, chain, false, &mine, layered);
         });
       } else {

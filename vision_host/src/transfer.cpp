@@ -176,6 +176,7 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc, Receive
   Vec3 d = snd.g.center - rg.center;
   const double dist = glm::length(d);
   est.toSender = dist > 0.0 ? d / dist : rg.coneAxis;
+  est.distance = dist;
   Rgb Eun(0.0);
   double catching = rg.area;
   if (snd.cluster == hr::kNone && rc.e) {

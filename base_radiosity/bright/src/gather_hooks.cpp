@@ -28,7 +28,8 @@ class GatherHooks {
       std::vector<IncidentSample> samples;
       samples.reserve(s_.groupStart[g + 1] - s_.groupStart[g]);
       for (std::uint32_t i = s_.groupStart[g]; i < s_.groupStart[g + 1]; ++i)
-        samples.push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
+        samples.push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E),
+                           glm::length(s_.h.center(s_.links[i].sender) - s_.h.center(n))});
       s_.samples.fetch_add(samples.size(), std::memory_order_relaxed);
       s_.ext->gather(n, samples);
     }

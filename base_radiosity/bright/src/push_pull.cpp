@@ -78,7 +78,8 @@ void addCosineLobe(float* t, const Vec3& n, const Rgb& rad) {
 /// A cluster's incoming light, as float arrays for the vectoriser: unit directions toward the
 /// senders and normal irradiance (W/m^2) per link.
 struct ClusterSamples {
-  std::vector<float> dx, dy, dz, er, eg, eb;
+  std::vector<float> dx, dy, dz, er, eg, eb, dist;
+  Vec3 centre{0.0};
 };
 
 /// The samples arriving at a cluster and at all its ancestors: one cluster per level.
@@ -118,10 +119,12 @@ class PushPull {
         if (l.E == glm::vec3(0.0f)) continue;
         cs.dx.push_back(l.dir.x), cs.dy.push_back(l.dir.y), cs.dz.push_back(l.dir.z);
         cs.er.push_back(l.E.x), cs.eg.push_back(l.E.y), cs.eb.push_back(l.E.z);
+        cs.dist.push_back(float(glm::length(s.h.center(l.sender) - s.h.center(r))));
       }
+      cs.centre = s.h.center(r);
       while (cs.dx.size() % 4 != 0) {
         cs.dx.push_back(0.0f), cs.dy.push_back(0.0f), cs.dz.push_back(1.0f);
-        cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
+        cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f), cs.dist.push_back(0.0f);
       }
     });
     if (prune_) markTouched();
@@ -236,12 +239,18 @@ class PushPull {
     std::size_t mark = samples ? samples->size() : 0;
     if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
-        if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E)});
-    // An inner element offers what reached it to the extension, which may reflect it once for every
-    // leaf below (Extension::reflectShared); taken samples are not carried further down. A shooting
+        if (s_.links[i].E != glm::vec3(0.0f))
+          samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E),
+                              glm::length(s_.h.center(s_.links[i].sender) - s_.h.center(NodeId{e}))});
+    // An inner element offers what reached it to the extension, which may reflect once for every leaf
+    // below what they all see alike (Extension::reflectShared); taken samples are not carried further
+    // down, the rest are, re-aimed from each child's centre (hr::aimFrom). A shooting
     // batch re-offers every inner element on its way down, so a layer of an earlier batch is never
     // read by a later one.
-    if (samples && carry_ && !el.leaf() && s_.ext->reflectShared(NodeId{e}, *samples)) samples->clear(), mark = 0;
+    if (samples && carry_ && !el.leaf()) {
+      samples->resize(s_.ext->reflectShared(NodeId{e}, *samples));
+      mark = std::min(mark, samples->size());
+    }
     Pulled result;
     if (el.leaf()) {
       if (shoot_) {
@@ -271,6 +280,7 @@ class PushPull {
         tbb::parallel_for(0, 4, [&](int k) {
           s_.clkPushPull.sawThread();
           std::vector<IncidentSample> mine(*samples);
+          for (IncidentSample& x : mine) aimFrom(x, el.center, s_.h.element(el.firstChild + std::uint32_t(k)).center);
           part[k] = element(el.firstChild + std::uint32_t(k), total, &mine);
         });
       } else {
@@ -311,7 +321,7 @@ class PushPull {
 
   /// The chain's samples on a plane with normal n (E_perp max(0, n.w)), to start a simulated
   /// patch's sample list.
-  static void chainSamples(const SampleChain& chain, const Vec3& n, std::vector<IncidentSample>& out) {
+  static void chainSamples(const SampleChain& chain, const Vec3& n, const Vec3& at, std::vector<IncidentSample>& out) {
     for (const SampleChain* c = &chain; c; c = c->parent) {
       if (!c->here) continue;
       const ClusterSamples& cs = *c->here;
@@ -319,7 +329,10 @@ class PushPull {
         Vec3 w(cs.dx[i], cs.dy[i], cs.dz[i]);
         double cosine = glm::dot(n, w);
         Rgb e(cs.er[i], cs.eg[i], cs.eb[i]);
-        if (cosine > 0.0 && maxComponent(e) > 0.0) out.push_back({w, e * cosine});
+        if (!(cosine > 0.0 && maxComponent(e) > 0.0)) continue;
+        IncidentSample s{w, e * cosine, double(cs.dist[i])};
+        aimFrom(s, cs.centre, at);
+        out.push_back(s);
       }
     }
   }
@@ -372,7 +385,7 @@ class PushPull {
       const Vec3& n = s_.h.element(kid.index()).normal;
       if (s_.ext && s_.owned[kid.index()]) {
         std::vector<IncidentSample> samples;
-        if (carry_) chainSamples(here, n, samples);
+        if (carry_) chainSamples(here, n, s_.h.element(kid.index()).center, samples);
         element(kid.index(), irradianceFrom(here, n), &samples);
       } else {
         element(kid.index(), irradianceFrom(here, n), nullptr);

@@ -24,7 +24,18 @@ namespace hr {
 struct IncidentSample {
   Vec3 toSender{0.0};    // unit, receiver -> sender
   Rgb irradiance{0.0};   // W/m^2, visibility included
+  double distance = 0.0;  // m, to the sender's centre from where toSender was taken; 0: unknown
 };
+
+/// A sample taken at `from` as seen from `to` (a host carrying it down to a child): it points at the
+/// same sender centre, since a child far from its ancestor's centre sees a near sender elsewhere
+/// (parallax). Its irradiance stays the link's, so no light is made or lost. Unknown distance: as is.
+inline void aimFrom(IncidentSample& s, const Vec3& from, const Vec3& to) {
+  if (!(s.distance > 0.0)) return;
+  const Vec3 d = from + s.distance * s.toSender - to;
+  const double len = glm::length(d);
+  if (len > 0.0) s.toSender = d / len, s.distance = len;
+}
 
 /// How sharply a simulated material reflects, for the host's oracle: the share of incident light its
 /// lobe sends on (luminance, at most 1) and the lobe's angular half-width, rad. An Illumination Sample
@@ -138,10 +149,12 @@ class Extension {
   virtual void reflect(NodeId /*leaf*/, std::span<const IncidentSample>) {}
   /// Optional, gathering or a shooting pass: an inner element of a simulated planar subtree with the
   /// samples that reached it there (its own links', and at the top of a surface those of the clusters
-  /// above), before its children. Reflection is linear and every leaf below receives these samples alike, so an extension
-  /// may reflect them once for the subtree: true means it took them, and the host does not carry them
-  /// down. Top-down, concurrent across disjoint subtrees; the default takes nothing.
-  virtual bool reflectShared(NodeId /*element*/, std::span<const IncidentSample>) { return false; }
+  /// above), before its children. Reflection is linear, so an extension may reflect once for the whole
+  /// subtree the samples every leaf below would reflect alike (a sender far enough that the subtree
+  /// sees it in one direction): it moves those it took to the back and returns how many it left in
+  /// front, which the host carries down, each re-aimed from the child it reaches (parallax).
+  /// Top-down, concurrent across disjoint subtrees; the default takes none.
+  virtual std::size_t reflectShared(NodeId /*element*/, std::span<IncidentSample> samples) { return samples.size(); }
 
   // Push/pull: children before parents, concurrent across disjoint subtrees.
   /// An inner element or cluster above simulated leaves: its exitant light from its children's, the

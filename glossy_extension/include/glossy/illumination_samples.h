@@ -54,7 +54,7 @@ class IlluminationSamples : public hr::Extension {
 
   void gather(hr::NodeId receiver, std::span<const hr::IncidentSample> samples) override;
   void reflect(hr::NodeId leaf, std::span<const hr::IncidentSample> samples) override;
-  bool reflectShared(hr::NodeId element, std::span<const hr::IncidentSample> samples) override;
+  std::size_t reflectShared(hr::NodeId element, std::span<hr::IncidentSample> samples) override;
   void pull(hr::NodeId node, std::span<const hr::NodeId> children) override;
   double powerChange() const override;
 

@@ -11,8 +11,16 @@
 // coarser than before, whose figures stand), 5 bounds the memory (each level is 4x the cells a lobe
 // may refine to) and is where the measured gain on three lights ends (docs/glossy.md).
 #pragma once
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 
 namespace glossy {
+
+/// A Phong lobe cos^n's 1/e half-width from the mirror direction, sqrt(2/n) rad, at most pi/2.
+inline double lobeWidth(double exponent) {
+  return exponent > 0.0 ? std::min(0.5 * std::numbers::pi, std::sqrt(2.0 / exponent)) : 0.5 * std::numbers::pi;
+}
 
 inline constexpr int kLobeLevelCoarsest = 3;
 inline constexpr int kLobeLevelFinest = 5;

@@ -75,6 +75,7 @@ struct Cluster {
 struct ClusterSample {
   Vec3 toSender{0.0};
   Rgb Eperp{0.0};
+  double distance = 0.0;  // to the sender's centre from the cluster's, m
 };
 
 class Hierarchy {
