@@ -165,6 +165,7 @@ std::vector<Case> cases() {
       {"dir_min_above_max", "solve --dir-min-level 4 --algorithm is --dir-max-level 2 -o {out}"},
       {"sh_order_with_haar", "solve --sh-order 3 --algorithm is -o {out}"},
       {"reflection_refine_yes", "solve --reflection-refine yes --algorithm is -o {out}"},
+      {"sender_extent_yes", "solve --sender-extent yes --algorithm is -o {out}"},
       {"tetra_level_with_sh", "solve --tetra-level 2 --algorithm is --basis sh -o {out}"},
       {"extension_option_without_extension", "solve --basis haar --algorithm diffuse -o {out}"},
       // --basis auto (issue 17): the spelling is exact, and every basis's options keep their ranges.

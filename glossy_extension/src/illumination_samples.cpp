@@ -35,6 +35,7 @@ std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOpti
 void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) {
   basis_ = parseIsOptions(values);
   refineReflections_ = parseReflectionRefine(values);
+  senderPoints_ = parseSenderExtent(values) ? kSenderPoints : 0;
   finestLevel_ = levelCap(basis_);
   budgetLevels_ = -1;
   LobeCache::setMaxEntries(LobeCache::kMaxEntries);  // a budget of an earlier solve in this process is not this one's
@@ -263,7 +264,7 @@ std::size_t IlluminationSamples::reflectShared(hr::NodeId element, std::span<hr:
   ReflectCounts rc;
   // Per unit area: each leaf scales the sums by its own area, as its own samples' lobes are.
   LobeSet lobes = makeLobes(taken, Frame::around(info.normal), info.normal, 1.0, m.specular, m.exponent,
-                            mergeAngle(m.exponent), rc);
+                            mergeAngle(m.exponent), rc, senderPoints_, cellSize(materialLevel(info.material)));
   std::uint32_t reach = from;
   if (!lobes.samples.empty()) {
     const HaarCellSums* above = from != hr::kNone ? layers_[from].get() : nullptr;
@@ -293,7 +294,8 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   l->frame = spec.basis == Basis::Haar ? Frame::around(info.normal) : Frame::world();
   ReflectCounts rc;
   double n = representableExponent(spec, m.exponent);
-  LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc);
+  LobeSet lobes = makeLobes(samples, l->frame, info.normal, info.area, m.specular, n, mergeAngle(n), rc, senderPoints_,
+                            spec.basis == Basis::Haar ? cellSize(spec.haar.maxLevel) : 0.0);
   std::unique_ptr<NodeLight> out;
   if (simulates(m) && (!lobes.samples.empty() || base)) {
     l->dist = projectLobes(lobes, spec, rc, base, info.area);
@@ -513,7 +515,9 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"bytes", bytesTotal},
       {"samples_received_total", v(c.samplesReceived)},
       {"samples_peak_per_reflect", v(c.samplesPeak)},
-      {"samples_merged_away", v(c.samplesReceived) - v(c.samplesDropped) - v(c.samplesKept)},
+      {"samples_merged_away", v(c.samplesReceived) + v(c.spreadLobes) - v(c.samplesDropped) - v(c.samplesKept)},
+      {"samples_spread_over_their_sender", v(c.samplesSpread)},
+      {"lobes_added_by_spreading", v(c.spreadLobes)},
       {"samples_dropped_no_front_light", v(c.samplesDropped)},
       {"brdf_evaluations", v(c.brdfEvaluations)},
       {"lobes_integrated", v(c.lobesIntegrated)},

@@ -15,6 +15,7 @@ struct IlluminationSamples::Counters {
   std::atomic<std::uint64_t> samplesReceived{0}, samplesKept{0}, samplesDropped{0}, samplesPeak{0};
   std::atomic<std::uint64_t> brdfEvaluations{0}, pullCells{0}, pullClips{0};
   std::atomic<std::uint64_t> lobesFromMemo{0}, lobesIntegrated{0}, sharedLayers{0};
+  std::atomic<std::uint64_t> samplesSpread{0}, spreadLobes{0};
   std::atomic<std::uint64_t> reflectCpuNs{0}, pullCpuNs{0};
 
   static void raise(std::atomic<std::uint64_t>& a, std::uint64_t v) {
@@ -31,6 +32,8 @@ struct IlluminationSamples::Counters {
     add(brdfEvaluations, rc.brdfEvaluations);
     add(lobesFromMemo, rc.lobesFromMemo);
     add(lobesIntegrated, rc.lobesIntegrated);
+    add(samplesSpread, rc.spread);
+    add(spreadLobes, rc.spreadLobes);
   }
 };
 

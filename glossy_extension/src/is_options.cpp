@@ -67,6 +67,9 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
                             "from directions further apart than the receiver's lobe; cell: than the lobe or the "
                             "material's Haar cell, whichever is wider (fewer links, a blurrier near reflection; "
                             "docs/glossy.md)"},
+      {"sender-extent", "on (default) or off: a sample whose sender is seen wider than the receiver's lobe is "
+                        "reflected as the sender's disk (spread over up to 8 directions), not as one lobe about "
+                        "its centre (docs/glossy.md)"},
   };
 }
 
@@ -122,6 +125,16 @@ ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& value
       fail(v.name, "must be on, cell or off, got '" + v.value + "'");
     }
   return ReflectionRefine::Lobe;
+}
+
+bool parseSenderExtent(const std::vector<hr::OptionValue>& values) {
+  for (const auto& v : values)
+    if (v.name == "sender-extent") {
+      if (v.value == "on") return true;
+      if (v.value == "off") return false;
+      fail(v.name, "must be on or off, got '" + v.value + "'");
+    }
+  return true;
 }
 
 void validateIsBasis(const BasisSpec& b, const std::string& context) {

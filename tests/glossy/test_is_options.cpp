@@ -23,7 +23,7 @@ TEST(IsOptions, DefaultsAreThePapersSolvingSettings) {
   std::vector<std::string> names;
   for (const auto& o : ext->options()) names.push_back(o.name);
   EXPECT_EQ(names, (std::vector<std::string>{"basis", "dir-eps", "dir-min-level", "dir-max-level", "tetra-level", "sh-order",
-                                             "reflection-refine"}));
+                                             "reflection-refine", "sender-extent"}));
 }
 
 /// What the host's oracle is told of a material (docs/glossy.md, "The reflection term"): the lobe's
@@ -115,9 +115,11 @@ TEST(IsOptions, RefusedValuesNameTheOption) {
       {{{"dir-eps", "0.1"}, {"dir-eps", "0.2"}}, "--dir-eps: given twice"},
       {{{"reflection-refine", "yes"}}, "--reflection-refine: must be on, cell or off, got 'yes'"},
       {{{"reflection-refine", "on"}, {"reflection-refine", "off"}}, "--reflection-refine: given twice"},
+      {{{"sender-extent", "yes"}}, "--sender-extent: must be on or off, got 'yes'"},
+      {{{"sender-extent", "on"}, {"sender-extent", "off"}}, "--sender-extent: given twice"},
       {{{"eps", "0.1"}},
        "--eps: not an option of --algorithm is (valid: basis, dir-eps, dir-min-level, dir-max-level, tetra-level, sh-order, "
-       "reflection-refine)"},
+       "reflection-refine, sender-extent)"},
   };
   for (const Row& r : rows) {
     glossy::IlluminationSamples ext;

@@ -302,6 +302,72 @@ TEST(IsDisplay, AHighlightFollowsTheShadingNormalByTheMirrorLaw) {
     EXPECT_EQ(one.ext->radiance(one.leaf, e, n), one.ext->radiance(one.leaf, e));
 }
 
+TEST(IsReflection, AWideSenderIsReflectedAsItsDisk) {
+  // n = 200 (lobe width sqrt(2/200) = 0.1 rad). A sender of radius 0.3 m at 1 m (0.3 rad, three lobe
+  // widths) is spread over min(8, 2 ceil(3^2 / 2)) = 8 directions in opposite pairs: the lobes'
+  // weights sum to the sample's own (the irradiance shared, none made or lost), every mirror direction
+  // lies within the disk's angle of the centre's mirror, their mean on it (to rounding), and they
+  // spread at least half the disk's angle. A sender seen narrower than the lobe (0.05 m at 1 m), or any sender
+  // with senderPoints 0 (--sender-extent off), or one within what the distribution resolves, stays
+  // one lobe, bit for bit. Near grazing, directions
+  // below the surface are left out and the rest carry the whole irradiance.
+  const double n = 200.0;
+  const Vec3 centre = testhost::around(Vec3(0, 0, 1), 0.6, 0.3);
+  auto at = [&](const Vec3& dir, double radius) {
+    hr::IncidentSample s = testhost::sample(dir, Rgb(0.7, 0.5, 0.2));
+    s.distance = 1.0, s.radius = radius;
+    return s;
+  };
+  const glossy::Frame f = glossy::Frame::world();
+  auto lobes = [&](const hr::IncidentSample& s, int points, glossy::ReflectCounts& rc) {
+    return glossy::makeLobes({&s, 1}, f, Vec3(0, 0, 1), 1.0, Rgb(0.5), n, 0.0, rc, points);
+  };
+  glossy::ReflectCounts rc, none;
+  const auto wide = lobes(at(centre, 0.3), glossy::kSenderPoints, rc), point = lobes(at(centre, 0.3), 0, none);
+  ASSERT_EQ(point.samples.size(), 1u);
+  ASSERT_EQ(wide.samples.size(), 8u);
+  EXPECT_EQ(rc.spread, 1u);
+  EXPECT_EQ(rc.spreadLobes, 7u);
+  Rgb sum(0.0);
+  Vec3 mean(0.0);
+  double widest = 0.0;
+  const Vec3 m = glossy::mirror(centre, Vec3(0, 0, 1));
+  for (const auto& l : wide.samples) {
+    sum += l.weight, mean += l.mirror;
+    const double angle = std::acos(std::min(1.0, glm::dot(l.mirror, m)));
+    widest = std::max(widest, angle);
+    EXPECT_LE(angle, std::atan(0.3) + 1e-9);
+  }
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], point.samples[0].weight[c], 1e-12 * point.samples[0].weight[c]);
+  EXPECT_LT(glm::length(glm::normalize(mean) - m), 1e-12);
+  EXPECT_GT(widest, 0.5 * std::atan(0.3));
+  glossy::ReflectCounts rn;
+  const auto narrow = lobes(at(centre, 0.05), glossy::kSenderPoints, rn);
+  ASSERT_EQ(narrow.samples.size(), 1u);
+  EXPECT_EQ(narrow.samples[0].mirror, point.samples[0].mirror);
+  EXPECT_EQ(narrow.samples[0].weight, point.samples[0].weight);
+  EXPECT_EQ(rn.spread, 0u);
+  // Wider than the lobe but within what the distribution resolves (cells of 0.4 rad): one lobe too.
+  glossy::ReflectCounts rr;
+  const hr::IncidentSample wideSample = at(centre, 0.3);
+  const auto held = glossy::makeLobes({&wideSample, 1}, f, Vec3(0, 0, 1), 1.0, Rgb(0.5), n, 0.0, rr, glossy::kSenderPoints, 0.4);
+  ASSERT_EQ(held.samples.size(), 1u);
+  EXPECT_EQ(held.samples[0].weight, point.samples[0].weight);
+  EXPECT_EQ(rr.spread, 0u);
+  // 0.1 rad above the horizon, the disk 0.3 rad wide: some directions fall below and are left out.
+  const Vec3 low = testhost::around(Vec3(0, 0, 1), 0.5 * hr::kPi - 0.1, 1.0);
+  glossy::ReflectCounts rg, rgp;
+  const auto grazing = lobes(at(low, 0.3), glossy::kSenderPoints, rg), grazingPoint = lobes(at(low, 0.3), 0, rgp);
+  ASSERT_GE(grazing.samples.size(), 2u);
+  EXPECT_LT(grazing.samples.size(), 8u);
+  Rgb g(0.0);
+  for (const auto& l : grazing.samples) {
+    g += l.weight;
+    EXPECT_GT(l.mirror.z, 0.0);
+  }
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(g[c], grazingPoint.samples[0].weight[c], 1e-12 * grazingPoint.samples[0].weight[c]);
+}
+
 TEST(IsReflection, SamplesWithoutFrontLightAreDropped) {
   testhost::Scene scene;
   auto ext = testhost::configured();

@@ -49,10 +49,12 @@ TEST(VisionGlossy, ClosedFurnaceKeepsEnergyAndReflectsAsTheOtherHost) {
   // escape, and absorbed = emitted within 1 %. The power it reflects has no closed form (the Phong
   // lobe's albedo falls toward grazing), so it is checked against the BRIGHT-like host, within 2 %
   // (the two hosts' meshes and oracles differ), and must be at least a quarter of the emitted power
-  // (without the hooks it would be 0; measured: half).
+  // (without the hooks it would be 0; measured: half). At the scene's own eps 4e-4: 9.43 W against
+  // 9.47 W (0.996). At eps 1e-3, where the test ran until wide senders were reflected as their disks,
+  // the BRIGHT-like host's coarse walls, each seen as a disk nearly as wide as the box, reflect 2 %
+  // more than at 4e-4 (9.63 W; the VISION-like host's 9.43 W does not move), 0.979 between the hosts.
   const std::string json = sceneText("glossy_furnace.json");
   hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
-  o.eps = 1e-3;
   auto ev = adapters::findExtension("is").make();
   auto v = visiontest::solveText(json, o, ev.get());
   ASSERT_TRUE(v.stats.converged);
@@ -174,6 +176,27 @@ TEST(VisionGlossyCli, ThreeLightsAgainstTheOtherHostAndRenderedBack) {
   ASSERT_EQ(testutil::runCli("render " + (dir / "visionis" / "solution.ghrs").string() + " -o " + (dir / "again.exr").string() +
                                  " --quiet", out), 0) << out;
   EXPECT_EQ(relRmse((dir / "again.exr").string(), vis, ""), 0.0);
+}
+
+TEST(VisionGlossyCli, GlossyCornellAgainstTheOtherHost) {
+  // Issue 14's bar between the hosts, 0.05, on the glossy Cornell box at its own settings (lights
+  // left out). Most of what is left is the tall glossy block (0.24-0.25 between the hosts on its
+  // pixels; each 0.20-0.26 from a 4,096-spp reference). It read 0.067 before samples were re-aimed at
+  // every leaf (main at 1fbb598: fails), 0.0499 / 0.0505 / 0.0510 for seeds 1-3 after (what
+  // --sender-extent off gives: seed 1 passes by a hair, seeds 2 and 3 fail), and 0.0457 / 0.0466 /
+  // 0.0465 since a wide sender is reflected as its disk (docs/glossy.md, "Senders as areas").
+  namespace fs = std::filesystem;
+  const fs::path dir = testutil::testDir();
+  const std::string scene = std::string(GHR_SOURCE_DIR) + "/scenes/glossy_cornell.json";
+  std::string out;
+  for (const char* host : {"vision", "bright"})
+    ASSERT_EQ(testutil::runCli("solve " + scene + " --host " + host + " --algorithm is --seed 1 --quiet -o " +
+                                   (dir / host).string(), out),
+              0)
+        << out;
+  const double e = relRmse((dir / "vision" / "front.exr").string(), (dir / "bright" / "front.exr").string(), " --exclude 5");
+  std::printf("glossy Cornell, rel RMSE vision vs bright (light masked): %.4f\n", e);
+  EXPECT_LT(e, 0.05);
 }
 
 TEST(VisionGlossyCli, RadianceClusteringIsRefusedNamingTheFlags) {
@@ -309,8 +332,9 @@ TEST(VisionGlossyCli, AMirrorNearACardIsRefinedByTheReflectorOnThisHostToo) {
   // further apart than its lobe reflects it as blobs unless the oracle refines for the reflection
   // (hr::Reflector, --reflection-refine). This host's adapter did not pass reflector() on, so the
   // flag did nothing here: the mirror's pixels lay 1.25 from a path-traced reference either way.
-  // Measured now: 0.34 with the default (on), 1.25 with --reflection-refine off (the reference's own
-  // noise at 1,024 spp: 0.12-0.16).
+  // Measured then: 0.34 with the default (on), 1.25 with --reflection-refine off (the reference's own
+  // noise at 1,024 spp: 0.12-0.16). Since samples are re-aimed at every leaf and a wide sender is
+  // reflected as its disk (docs/glossy.md), which do much of what the term did: 0.335 on, 0.546 off.
   namespace fs = std::filesystem;
   const fs::path dir = testutil::testDir();
   const std::string scene = R"({ "name": "mirror_card", "materials": { "l": { "emission": [12,12,12] }, "w": { "diffuse": [0.8,0.8,0.8] },
@@ -334,7 +358,7 @@ TEST(VisionGlossyCli, AMirrorNearACardIsRefinedByTheReflectorOnThisHostToo) {
   }
   std::printf("mirror near a card on the VISION-like host, rel RMSE: on %.3f, off %.3f\n", err[0], err[1]);
   EXPECT_LT(err[0], 0.5) << "refined for the reflection";
-  EXPECT_GT(err[1], 0.9) << "without it (the flag must matter)";
+  EXPECT_GT(err[1], 1.4 * err[0]) << "without it (the flag must matter)";
 }
 
 }  // namespace

@@ -170,6 +170,7 @@ struct Estimate {
   Rgb E{0.0};             // element receiver: mean irradiance; cluster receiver: E_perp; W/m^2
   Vec3 toSender{0.0};     // receiver -> sender, unit
   double distance = 0.0;  // between the two centres, m
+  double radius = 0.0;    // the sender's, as hr::IncidentSample::radius
   double unoccluded = 0.0;  // power it would bring without occlusion (luminance), W
   double V = 1.0;           // visible fraction
   double sigma = 0.0;       // standard error of V

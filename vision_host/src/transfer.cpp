@@ -177,6 +177,9 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc, Receive
   const double dist = glm::length(d);
   est.toSender = dist > 0.0 ? d / dist : rg.coneAxis;
   est.distance = dist;
+  // A sender whose normals cancel (a whole sphere) is taken as a cluster is: seen square on.
+  const double cosS = snd.cluster == hr::kNone && snd.g.normal != Vec3(0.0) ? glm::dot(snd.g.normal, est.toSender) : 1.0;
+  est.radius = hr::senderDiskRadius(snd.g.spread2, cosS);
   Rgb Eun(0.0);
   double catching = rg.area;
   if (snd.cluster == hr::kNone && rc.e) {

@@ -25,7 +25,16 @@ struct IncidentSample {
   Vec3 toSender{0.0};    // unit, receiver -> sender
   Rgb irradiance{0.0};   // W/m^2, visibility included
   double distance = 0.0;  // m, to the sender's centre from where toSender was taken; 0: unknown
+  double radius = 0.0;    // m, the sender's extent about its centre (a disk of its second moment); 0: a point
 };
+
+/// IncidentSample::radius of a sender whose surface has mean squared distance spread2 (m^2) from its
+/// centre, seen at cosine c to its normal: the disk of the same second moment as its projection (a
+/// flat sender's isotropic spread2 / 2 per axis, one axis foreshortened by c), so a face seen
+/// edge-on is still a line's width, not a point.
+inline double senderDiskRadius(double spread2, double c) {
+  return spread2 > 0.0 && std::isfinite(spread2) ? std::sqrt(spread2 * (1.0 + std::min(1.0, c * c))) : 0.0;
+}
 
 /// A sample taken at `from` as seen from `to` (a host carrying it down to a child): it points at the
 /// same sender centre, since a child far from its ancestor's centre sees a near sender elsewhere

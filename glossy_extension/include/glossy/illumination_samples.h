@@ -166,6 +166,7 @@ class IlluminationSamples : public hr::Extension {
   std::vector<int> materialLevel_;  // per material of the view, -1 for one not simulated
   int pullFloor_ = 3;  // the coarsest Haar material's level: sums are never projected coarser
   ReflectionRefine refineReflections_ = ReflectionRefine::Lobe;  // --reflection-refine: what reflector() reports
+  int senderPoints_ = kSenderPoints;  // --sender-extent: directions a wide sender is spread over (0: off)
 };
 
 }  // namespace glossy

@@ -28,6 +28,9 @@ enum class ReflectionRefine { Off, Lobe, Cell };
 /// --reflection-refine; throws hr::InputError for a value not on/cell/off. parseIsOptions has checked
 /// the names and that none is given twice.
 ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& values);
+/// --sender-extent on (default) or off: whether a sender seen wider than the lobe is reflected as
+/// its disk (reflection.h) or as one direction, as before.
+bool parseSenderExtent(const std::vector<hr::OptionValue>& values);
 
 /// Checks a basis as a solution file states it; throws hr::InputError prefixed by `context`.
 void validateIsBasis(const BasisSpec& b, const std::string& context);

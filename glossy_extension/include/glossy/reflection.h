@@ -11,6 +11,11 @@
 // - Tetrahedron and spherical harmonics sample the lobe at fixed points, so a lobe narrower than their
 //   resolution would fall between the points: the exponent is first limited to what the basis can
 //   hold (representableExponent), which widens the lobe and keeps its normalisation.
+// A sample is one direction, but its sender is an area: one seen wider than the lobe (radius /
+// distance > sqrt(2/N)) and than the stored cells is mirrored as its disk (IncidentSample::radius),
+// not as a lobe about its centre, by spreading the sample's irradiance over up to kSenderPoints
+// directions across the disk, about one per lobe- or cell-sized patch of it (a near card in a mirror came out as blobs about the centres
+// of its elements; docs/glossy.md, "Senders as areas").
 #pragma once
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
@@ -34,6 +39,8 @@ struct LobeSample {
 
 struct ReflectCounts {
   std::uint64_t received = 0, kept = 0, dropped = 0, brdfEvaluations = 0;
+  /// Samples spread over their sender's disk, and the lobes that added beyond one per sample.
+  std::uint64_t spread = 0, spreadLobes = 0;
   /// Haar: lobes whose cell integrals came from the per-thread memo, and lobes integrated anew.
   std::uint64_t lobesFromMemo = 0, lobesIntegrated = 0;
 };
@@ -65,11 +72,22 @@ double mergeAngle(double exponent);
 /// of order L a lobe at least 2 pi / L wide.
 double representableExponent(const BasisSpec& b, double exponent);
 
+/// The most directions one sample's sender is spread over: senders up to about 2.8 lobe widths
+/// across get one direction per lobe-sized patch of their disk, wider ones fewer, at bounded cost (16
+/// took the VISION-like host's glossy Cornell box from 43 to 60 s for the same image).
+inline constexpr int kSenderPoints = 8;
+
 /// The host's samples (world frame) as lobes in `frame`: samples with no light on the front of the
-/// surface (non-finite, non-positive, or from behind) are dropped; samples within `merge` radians of a
-/// brighter one are merged into it (0: no merging). E is planar irradiance, W/m^2; area in m^2.
+/// surface (non-finite, non-positive, or from behind) are dropped; with senderPoints > 0 a sample
+/// whose sender is seen wider than the lobe and than `resolved` (rad: what the distribution holds,
+/// e.g. its Haar cell) is spread over its disk (at most senderPoints directions, one per patch of
+/// that width; those below the surface are left out and the rest share the whole irradiance by
+/// their cosines); samples within
+/// `merge` radians of a brighter one are merged into it (0: no merging). E is planar irradiance,
+/// W/m^2; area in m^2.
 LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& frame, const Vec3& worldNormal,
-                  double area, const Rgb& specular, double exponent, double merge, ReflectCounts& counts);
+                  double area, const Rgb& specular, double exponent, double merge, ReflectCounts& counts,
+                  int senderPoints = 0, double resolved = 0.0);
 
 /// Projects the lobes into the basis (see the file comment); counts lobe evaluations. Haar only: with
 /// base * scale added (cell sums at the stored level, integrateLobes).

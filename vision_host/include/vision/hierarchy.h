@@ -76,6 +76,7 @@ struct ClusterSample {
   Vec3 toSender{0.0};
   Rgb Eperp{0.0};
   double distance = 0.0;  // to the sender's centre from the cluster's, m
+  double radius = 0.0;    // the sender's, as hr::IncidentSample::radius
 };
 
 class Hierarchy {
