@@ -264,7 +264,7 @@ std::size_t IlluminationSamples::reflectShared(hr::NodeId element, std::span<hr:
   ReflectCounts rc;
   // Per unit area: each leaf scales the sums by its own area, as its own samples' lobes are.
   LobeSet lobes = makeLobes(taken, Frame::around(info.normal), info.normal, 1.0, m.specular, m.exponent,
-                            mergeAngle(m.exponent), rc, senderPoints_, cellSize(materialLevel(info.material)));
+                            mergeAngle(m.exponent), rc, senderPoints_, resolved);
   std::uint32_t reach = from;
   if (!lobes.samples.empty()) {
     const HaarCellSums* above = from != hr::kNone ? layers_[from].get() : nullptr;

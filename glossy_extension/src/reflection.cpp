@@ -3,6 +3,7 @@
 // tetrahedron and spherical harmonics on a lobe limited to what they can hold).
 #include <glossy/brdf.h>
 #include <glossy/haar_lobes.h>
+#include <glossy/lobe_level.h>
 #include <glossy/reflection.h>
 
 #include "lobe_cache.h"
@@ -129,7 +130,7 @@ LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& fram
   // would be spread below what is stored (the Soda Shoppe's brass, n = 10^4: 0.8 degree lobes in
   // cells of 2.8 degrees; spreading there made every sample eight lobes and its solve five times as
   // long for nothing the cells could show).
-  const double width = std::max(exponent > 0.0 ? std::sqrt(2.0 / exponent) : 0.5 * kPi, resolved);
+  const double width = std::max(lobeWidth(exponent), resolved);
   const int points = std::clamp(senderPoints, 0, kSenderPoints);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const auto& s = samples[i];
@@ -142,7 +143,8 @@ LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& fram
       ++counts.dropped;
       continue;
     }
-    const double seen = points > 0 && s.distance > 0.0 && s.radius > 0.0 && std::isfinite(s.radius) ? s.radius / s.distance : 0.0;
+    const bool extended = points > 0 && s.distance > 0.0 && s.radius > 0.0 && std::isfinite(s.radius);
+    const double seen = extended ? s.radius / s.distance : 0.0;
     if (!(seen > width)) {
       items.push_back({mirror(wi, set.normal), s.irradiance, s.irradiance.x + s.irradiance.y + s.irradiance.z, 0});
       continue;

@@ -307,10 +307,10 @@ TEST(IsReflection, AWideSenderIsReflectedAsItsDisk) {
   // widths) is spread over min(8, 2 ceil(3^2 / 2)) = 8 directions in opposite pairs: the lobes'
   // weights sum to the sample's own (the irradiance shared, none made or lost), every mirror direction
   // lies within the disk's angle of the centre's mirror, their mean on it (to rounding), and they
-  // spread at least half the disk's angle. A sender seen narrower than the lobe (0.05 m at 1 m), or any sender
-  // with senderPoints 0 (--sender-extent off), or one within what the distribution resolves, stays
-  // one lobe, bit for bit. Near grazing, directions
-  // below the surface are left out and the rest carry the whole irradiance.
+  // spread at least half the disk's angle. A sender seen narrower than the lobe (0.05 m at 1 m), any
+  // sender with senderPoints 0 (--sender-extent off), or one within what the distribution resolves,
+  // stays one lobe, bit for bit. Near grazing, directions below the surface are left out and the
+  // rest carry the whole irradiance.
   const double n = 200.0;
   const Vec3 centre = testhost::around(Vec3(0, 0, 1), 0.6, 0.3);
   auto at = [&](const Vec3& dir, double radius) {

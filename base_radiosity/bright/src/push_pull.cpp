@@ -125,7 +125,8 @@ class PushPull {
       cs.centre = s.h.center(r);
       while (cs.dx.size() % 4 != 0) {
         cs.dx.push_back(0.0f), cs.dy.push_back(0.0f), cs.dz.push_back(1.0f);
-        cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f), cs.dist.push_back(0.0f), cs.radius.push_back(0.0f);
+        cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
+        cs.dist.push_back(0.0f), cs.radius.push_back(0.0f);
       }
     });
     if (prune_) markTouched();
@@ -282,7 +283,8 @@ class PushPull {
         tbb::parallel_for(0, 4, [&](int k) {
           s_.clkPushPull.sawThread();
           std::vector<IncidentSample> mine(*samples);
-          for (IncidentSample& x : mine) aimFrom(x, el.center, s_.h.element(el.firstChild + std::uint32_t(k)).center);
+          const Vec3& to = s_.h.element(el.firstChild + std::uint32_t(k)).center;
+          for (IncidentSample& x : mine) aimFrom(x, el.center, to);
           part[k] = element(el.firstChild + std::uint32_t(k), total, &mine);
         });
       } else {

@@ -14,8 +14,8 @@
 // A sample is one direction, but its sender is an area: one seen wider than the lobe (radius /
 // distance > sqrt(2/N)) and than the stored cells is mirrored as its disk (IncidentSample::radius),
 // not as a lobe about its centre, by spreading the sample's irradiance over up to kSenderPoints
-// directions across the disk, about one per lobe- or cell-sized patch of it (a near card in a mirror came out as blobs about the centres
-// of its elements; docs/glossy.md, "Senders as areas").
+// directions across the disk, about one per lobe- or cell-sized patch of it (a near card in a
+// mirror came out as blobs about the centres of its elements; docs/glossy.md, "Senders as areas").
 #pragma once
 #include <glossy/distribution.h>
 #include <glossy/frame.h>
@@ -82,9 +82,8 @@ inline constexpr int kSenderPoints = 8;
 /// whose sender is seen wider than the lobe and than `resolved` (rad: what the distribution holds,
 /// e.g. its Haar cell) is spread over its disk (at most senderPoints directions, one per patch of
 /// that width; those below the surface are left out and the rest share the whole irradiance by
-/// their cosines); samples within
-/// `merge` radians of a brighter one are merged into it (0: no merging). E is planar irradiance,
-/// W/m^2; area in m^2.
+/// their cosines); samples within `merge` radians of a brighter one are merged into it (0: no
+/// merging). E is planar irradiance, W/m^2; area in m^2.
 LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& frame, const Vec3& worldNormal,
                   double area, const Rgb& specular, double exponent, double merge, ReflectCounts& counts,
                   int senderPoints = 0, double resolved = 0.0);

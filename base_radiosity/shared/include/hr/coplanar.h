@@ -8,9 +8,9 @@
 // the larger: the ceiling above the lamp gets no light through a slit a hundredth of the lamp's
 // size, and averaging that dark part into the ceiling elements that straddle the lamp's outline
 // showed their open part as a dark rim (2-3.5 % off on the ceiling, more with fewer rays per
-// link). On the
-// BRIGHT-like host links, the energy audit and images all ask the same question, so the answer is
-// consistent; the VISION-like host asks it only to hide display cells (vision_host/src/export.cpp).
+// link). On the BRIGHT-like host links, the energy audit and images all ask the same question, so
+// the answer is consistent; the VISION-like host asks it only to hide display cells
+// (vision_host/src/export.cpp).
 #pragma once
 #include <hr/geometry.h>
 
