@@ -4,6 +4,7 @@
 // (n = 10^4) keeps its power at the default (coarse) levels, grazing light and grazing views stay
 // finite, and merging samples from nearly one direction costs a stated, small error.
 #include <glossy/brdf.h>
+#include <glossy/haar_lobes.h>
 #include <glossy/is_options.h>
 #include <glossy/reflection.h>
 #include <gtest/gtest.h>
@@ -266,6 +267,53 @@ TEST(IsReflection, ProjectionMatchesDenseQuadratureOfTheLobes) {
       EXPECT_LT(worstAbs, 1e-4) << "n = " << n << ", max level " << maxLevel;
       EXPECT_LT(worstPower, 5e-4) << "n = " << n << ", max level " << maxLevel;
       EXPECT_LT(worstL1, 1e-3) << "n = " << n << ", max level " << maxLevel;
+    }
+  }
+}
+
+TEST(IsReflection, ALobeInsideOneCellIsIntegratedInClosedForm) {
+  // A lobe whose reach (cos^n >= 1e-4) lies inside one stored cell deposits m_z 2 pi / (n + 2) there
+  // without quadrature points; against the dense quadrature of the exact lobe (within 5e-4 of the
+  // lobe: the dense quadrature's own accuracy is 1e-4 of a cell's mean, and the tail past the reach
+  // 1e-4 of the lobe). n = 300 at the middle cell of level 1 (inside) and of level 2 (it reaches over the edges:
+  // quadrature), n = 10^4 at levels 3 and 5 likewise, and each axis also moved toward a corner.
+  struct Case {
+    double n;
+    int level;
+    bool inside;
+  };
+  for (const Case& k : {Case{300.0, 1, true}, Case{300.0, 2, false}, Case{1e4, 3, true}, Case{1e4, 5, false}}) {
+    glossy::FaceTri t = glossy::octaRoot(0);
+    for (int l = 0; l < k.level; ++l) t = t.child(3);
+    for (double toward : {0.0, 0.3}) {
+      const Vec3 axis = glm::normalize(glm::normalize(t.p[0] + t.p[1] + t.p[2]) * (1.0 - toward) + toward * t.dir(0));
+      glossy::LobeSet lobes;
+      lobes.exponent = k.n;
+      lobes.samples.push_back({axis, Rgb(1.0, 0.5, 0.25), true});
+      std::uint64_t evaluations = 0;
+      const glossy::HaarCellSums sums = glossy::integrateLobesHaar(lobes, k.level, evaluations);
+      testquad::DenseQuadrature dense(lobes);
+      double worst = 0.0, total = 0.0;
+      for (std::size_t c = 0; c < sums.cells.size(); ++c) {
+        // Cell index -> its triangle: two bits per level below the face.
+        glossy::FaceTri cell = glossy::octaRoot(int(sums.cells[c] >> (2 * k.level)));
+        for (int l = k.level - 1; l >= 0; --l) cell = cell.child(int((sums.cells[c] >> (2 * l)) & 3u));
+        const double want = dense.mean(cell, k.level).x * cell.solidAngle();
+        worst = std::max(worst, std::abs(sums.values[c].x - want));
+        total += want;
+      }
+      const bool closedForm = evaluations == 0;
+      std::printf("n = %-5g level %d, axis %.1f of the way to a corner: %zu cell(s), %s, worst cell %.1e of the lobe\n",
+                  k.n, k.level, toward, sums.cells.size(), closedForm ? "closed form" : "quadrature", worst / total);
+      if (toward == 0.0) {
+        EXPECT_EQ(closedForm, k.inside) << "n = " << k.n << ", level " << k.level;
+        if (k.inside) {
+          ASSERT_EQ(sums.cells.size(), 1u);
+          EXPECT_NEAR(sums.values[0].x, axis.z * 2.0 * kPi / (k.n + 2.0), 5e-4 * sums.values[0].x);
+        }
+      }
+      // The quadrature's own bar (ProjectionMatchesDenseQuadratureOfTheLobes: 1 % of a cell's mean).
+      EXPECT_LT(worst, (closedForm ? 5e-4 : 1e-2) * total) << "n = " << k.n << ", level " << k.level << ", toward " << toward;
     }
   }
 }
