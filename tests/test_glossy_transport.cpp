@@ -165,15 +165,22 @@ void expectBalanced(const testutil::Solved& s, double tol, const std::string& wh
 
 TEST(GlossyTransport, ClosedGlossyFurnaceKeepsItsEnergy) {
   // Every face emits and reflects through the lobe only (rho_d 0, rho_s 0.5, n 20): nothing escapes,
-  // all is absorbed where the lobe's albedo falls short of 1. Measured at the scene's eps 4e-4:
-  // 0.74 % (2.4 % at eps 2e-3: near-field glossy transfer is a placement error the threshold holds).
+  // all is absorbed where the lobe's albedo falls short of 1. At the scene's eps 4e-4 and at a coarse
+  // 2e-3, whose large elements next to each other are what the near-field rule is for: its flux and
+  // form factor taken at one point of the sender lost 0.62 % and 1.9 % (SolverState::extensionNearField);
+  // from four points, 0.17 % and -0.10 %.
   std::string json = readFile(std::string(GHR_SOURCE_DIR) + "/scenes/glossy_furnace.json");
-  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
-  auto ext = makeIs();
-  auto s = testutil::solveText(json, o, ext.get());
-  ASSERT_TRUE(s.stats.converged);
-  expectBalanced(s, 0.01, "glossy furnace");
-  for (int c = 0; c < 3; ++c) EXPECT_LT(s.stats.escapedW[c], 1e-3 * s.stats.emittedW[c]);
+  for (double eps : {0.0, 2e-3}) {
+    hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+    if (eps > 0.0) o.eps = eps;
+    auto ext = makeIs();
+    auto s = testutil::solveText(json, o, ext.get());
+    ASSERT_TRUE(s.stats.converged);
+    const double imbalance = (s.stats.emittedW[0] - s.stats.absorbedW[0] - s.stats.escapedW[0]) / s.stats.emittedW[0];
+    std::printf("glossy furnace at eps %g: imbalance %.3f %% of the emitted power\n", o.eps, 100.0 * imbalance);
+    expectBalanced(s, 0.005, "glossy furnace at eps " + std::to_string(o.eps));
+    for (int c = 0; c < 3; ++c) EXPECT_LT(s.stats.escapedW[c], 1e-3 * s.stats.emittedW[c]);
+  }
 }
 
 // The same furnace's image against the independent path tracer (issue 11: mean within 2 %). Every
