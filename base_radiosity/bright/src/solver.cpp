@@ -109,6 +109,7 @@ struct Solver::Impl {
     double totalArea = 0.0;
     for (const Patch& p : h.patches()) totalArea += p.area;
     s.minArea = s.opt.minArea > 0.0 ? s.opt.minArea : totalArea * 1e-6;
+    s.sceneArea = totalArea;
     if (s.opt.testOnlyUnblockedShadowRays)
       progress->note("TEST ONLY: shadow rays are never blocked (GLOSSYHR_TEST_ONLY_UNBLOCKED_SHADOW_RAYS=1): the answer is wrong on purpose");
     s.growArrays();

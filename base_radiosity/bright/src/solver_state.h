@@ -129,6 +129,7 @@ struct SolverState {
   RefineCap cap;          // a memory budget's limit on what refinement may make (memory_budget.h)
   bool capCut = false;    // the cap stopped some split during the latest refinement (reset per pass by the solver)
   double minArea = 0.0;
+  double sceneArea = 0.0;  // the root patches' area, m^2 (refine.cpp: a partly visible inner sender's budget)
   std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
   std::atomic<std::uint64_t> samples{0};  // Illumination Samples handed to the gather hook (per iteration)
   PhaseClock clkVisibility, clkRefine, clkGather, clkPushPull, clkEnergy;
