@@ -131,7 +131,6 @@ class Integrator {
     // (re-aimed samples rarely repeat a direction, so the memo hit 0.1 % of such lobes).
     if (const std::uint64_t c = containingCell(); c != kNoCell) {
       deposit(c, whole_ * m_.z);
-      ++inOneCell_;
       return;
     }
     // The unit lobe's shares of the stored cells, from the memo or integrated now (lobe_cache.h);
@@ -153,7 +152,6 @@ class Integrator {
     for (const CellShare& c : shares) deposit(c.cell, c.integral);
   }
   std::uint64_t evaluations() const { return evaluations_; }
-  std::uint64_t inOneCell() const { return inOneCell_; }
 
  private:
   static constexpr std::uint64_t kNoCell = ~std::uint64_t(0);
@@ -165,15 +163,9 @@ class Integrator {
   /// below it.
   std::uint64_t containingCell() const {
     if (!(p_.sinReach < 1.0) || p_.cosReach <= 0.0) return kNoCell;
-    const int f = octaFace(m_);
-    if (f >= 4) return kNoCell;
-    FaceTri t = octaRoot(f);
-    Bary b = octaBary(m_);
-    std::uint64_t i = std::uint64_t(f);
-    for (int l = 0; l < p_.store; ++l) {
-      const int k = descend(b);
-      t = t.child(k), i = 4 * i + std::uint64_t(k);
-    }
+    FaceTri t;
+    const std::uint64_t i = axisCell(&t);
+    if (i == kNoCell) return kNoCell;
     for (int e = 0; e < 3; ++e) {
       const Vec3 &a = t.p[e], &c = t.p[(e + 1) % 3], &o = t.p[(e + 2) % 3];
       Vec3 nrm = glm::cross(a, c);
@@ -253,13 +245,27 @@ class Integrator {
     v += integral * weight_;
   }
 
+  /// The stored cell holding the lobe's axis (and, given tri, its triangle), or kNoCell for an axis on
+  /// or below the horizon.
+  std::uint64_t axisCell(FaceTri* tri = nullptr) const {
+    const int f = octaFace(m_);
+    if (f >= 4) return kNoCell;
+    Bary b = octaBary(m_);
+    FaceTri t = octaRoot(f);
+    std::uint64_t i = std::uint64_t(f);
+    for (int l = 0; l < p_.store; ++l) {
+      const int k = descend(b);
+      i = 4 * i + std::uint64_t(k);
+      if (tri) t = t.child(k);
+    }
+    if (tri) *tri = t;
+    return i;
+  }
+
   /// The whole lobe, 2 pi / (n + 1) times the cosine at its axis, into the stored cell holding the axis.
   void depositAxis() {
-    Bary b = octaBary(m_);
-    std::uint64_t i = std::uint64_t(octaFace(m_));
-    if (i >= 4) return;  // an axis on or below the horizon sends nothing above it
-    for (int l = 0; l < p_.store; ++l) i = 4 * i + std::uint64_t(descend(b));
-    deposit(i, 2.0 * kPi / (power_.exponent() + 1.0) * m_.z);
+    // An axis on or below the horizon sends nothing above it.
+    if (const std::uint64_t i = axisCell(); i != kNoCell) deposit(i, 2.0 * kPi / (power_.exponent() + 1.0) * m_.z);
   }
 
   const Plan& p_;
@@ -276,7 +282,7 @@ class Integrator {
   Vec3 m_{0, 0, 1};
   Rgb weight_{0.0};
   double whole_ = 0.0;  // a unit lobe's integral inside one cell, over m_z (constructor)
-  std::uint64_t evaluations_ = 0, inOneCell_ = 0;
+  std::uint64_t evaluations_ = 0;
 };
 
 double solidAngleOf(int level, std::uint64_t i) {
