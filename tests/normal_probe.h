@@ -58,9 +58,14 @@ inline double worstShadingDegrees(const hr::Solution& s, std::size_t& corners) {
     if (s.patches[e.patch].object != 0 || !d.simulated(i)) continue;
     for (int k = 0; k < e.poly.n; ++k) {
       const hr::Vec3 v = e.poly.v[std::size_t(k)];
-      const hr::Vec3 still = d.radiance(i, v, glm::normalize(eye - v)) - hr::Vec3(1.0);
+      // A still image shades the sphere's own point its ray meets (CurvedSurface::meet), the viewer
+      // the vertex, both at the radial direction there (a sphere about the origin). A still image
+      // sees only the side facing the eye: corners on the far side are the viewer's alone.
+      const hr::Vec3 toEye = glm::normalize(eye - v);
+      const hr::Vec3 seen = s.surfaces.empty() ? v : s.surfaces[0].meet(v, toEye);
       const hr::Vec3 vertex = d.cornerValues()[d.firstCorner(i) + std::uint32_t(k)] - hr::Vec3(1.0);
-      worst = std::max({worst, degreesBetween(still, v), degreesBetween(vertex, v)});
+      worst = std::max(worst, degreesBetween(vertex, v));
+      if (glm::dot(v, toEye) > 0.0) worst = std::max(worst, degreesBetween(d.radiance(i, v, toEye) - hr::Vec3(1.0), seen));
       ++corners;
     }
   }

@@ -63,6 +63,39 @@ TEST(CurvedSurface, NormalsMatchTheClosedForms) {
   EXPECT_EQ(only(q).normalAt({0, 0, 0}), hr::Vec3(0.0));
 }
 
+TEST(CurvedSurface, ARayIsMovedFromAFacetOntoTheSurface) {
+  // A viewer's ray that hit a point 1 cm inside the sphere (radius 0.5 about (1, 2, 3)), on a chord,
+  // meets the sphere itself where it entered it: the root of |p + t d - c| = r furthest toward the
+  // viewer (d points to the viewer), on the sphere and on the ray. From a point 1 cm outside (a
+  // facet that keeps the sphere's area bulges out) it is the same entry point.
+  const hr::Vec3 c(1, 2, 3);
+  const hr::CurvedSurface s = only(sphere(c, 0.5));
+  const hr::Vec3 toViewer = glm::normalize(hr::Vec3(1, 0.2, 0.6));
+  const hr::Vec3 entry = c + 0.5 * glm::normalize(hr::Vec3(1, 0.1, 0.05));
+  EXPECT_GT(glm::dot(toViewer, entry - c), 0.0);
+  for (double off : {-0.01, 0.01}) {
+    const hr::Vec3 p = entry + off * toViewer, q = s.meet(p, toViewer);
+    EXPECT_NEAR(glm::length(q - c), 0.5, 1e-12);
+    EXPECT_LT(glm::length(glm::cross(q - p, toViewer)), 1e-12);
+    EXPECT_LT(glm::length(q - entry), 1e-9) << "the entry point, not the far side, from " << off;
+  }
+  // A line that misses the sphere leaves the point where it was; so does a flat primitive.
+  const hr::Vec3 far(c + hr::Vec3(0, 0, 2));
+  EXPECT_EQ(s.meet(far, hr::Vec3(1, 0, 0)), far);
+  hr::Object quad;
+  quad.type = hr::PrimitiveType::Quad;
+  EXPECT_EQ(only(quad).meet(entry, toViewer), entry);
+  // A cylinder of radius 1 along +z, seen from outside along -x in the plane z = 0.5: from a point
+  // just inside its side the viewer's ray meets the side at radius 1, at the same height.
+  hr::Object cyl;
+  cyl.type = hr::PrimitiveType::Cylinder;
+  cyl.base = {0, 0, 0}, cyl.axis = {0, 0, 1}, cyl.radius = 1.0, cyl.radius2 = 1.0, cyl.height = 2.0;
+  const hr::Vec3 m = only(cyl).meet({0.98, 0.0, 0.5}, glm::normalize(hr::Vec3(1, 0.1, 0)));
+  EXPECT_NEAR(std::hypot(m.x, m.y), 1.0, 1e-12);
+  EXPECT_NEAR(m.z, 0.5, 1e-12);
+  EXPECT_GT(m.x, 0.98);
+}
+
 /// The shiny sphere in 16 segments (object 0), its facets refined near the lamp: the BRIGHT-like
 /// host's solution.
 const hr::Solution& tessellatedSphere() {

@@ -153,6 +153,10 @@ class Adapter final : public hr::Extension {
     if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);
     return in_->radiance(hr::NodeId{cellLeaf_[c.index()]}, e, n);
   }
+  hr::Rgb radiance(hr::NodeId c, const hr::Vec3& e, const hr::Vec3& n, const hr::Vec3& at) const override {
+    if (!isCell(c) || !(glm::dot(cellNormal_[c.index()], e) > 0.0)) return hr::Rgb(0.0);
+    return in_->radiance(hr::NodeId{cellLeaf_[c.index()]}, e, n == hr::Vec3(0.0) ? cellNormal_[c.index()] : n, at);
+  }
   /// The coefficients of the leaf a cell shows (shared by all its cells).
   std::size_t coefficients(hr::NodeId c) const override { return isCell(c) ? in_->coefficients(hr::NodeId{cellLeaf_[c.index()]}) : 0; }
   std::uint32_t formatVersion() const override { return in_->formatVersion(); }

@@ -119,6 +119,15 @@ class Integrator {
     whole_ = 2.0 * kPi * (1.0 - std::pow(std::max(p_.cosReach, 0.0), n + 2.0)) / (n + 2.0);
   }
 
+  /// Clip mode: only the stored cells inside cell (level, index) count, summed into clipped(), and
+  /// only the cells on the way to it are visited; the memo is read but not filled (its lists are whole).
+  void clipTo(int level, std::uint64_t index) {
+    clip_ = true;
+    clipLevel_ = level;
+    clipIndex_ = index;
+  }
+  Rgb clipped() const { return clipSum_; }
+
   void lobe(const LobeSample& lobe) {
     m_ = lobe.mirror;
     weight_ = lobe.weight;
@@ -147,7 +156,7 @@ class Integrator {
       deep_.clear();
       for (std::uint64_t f = 0; f < 4; ++f) visit(0, f);
       evaluate();
-      shares = lobe.recurs ? cache_.insert(key, shares_) : std::span<const CellShare>(shares_);
+      shares = lobe.recurs && !clip_ ? cache_.insert(key, shares_) : std::span<const CellShare>(shares_);
     }
     for (const CellShare& c : shares) deposit(c.cell, c.integral);
   }
@@ -185,8 +194,14 @@ class Integrator {
     return reach.overlaps(Cap::around(t));
   }
 
+  /// Whether cell (level, i) lies on the way to the clip cell or inside it (always, unclipped).
+  bool onPath(int level, std::uint64_t i) const {
+    if (!clip_) return true;
+    return level <= clipLevel_ ? (clipIndex_ >> (2 * (clipLevel_ - level))) == i : (i >> (2 * (level - clipLevel_))) == clipIndex_;
+  }
+
   void visit(int level, std::uint64_t i) {
-    if (!reaches(caps_[level][i])) return;
+    if (!onPath(level, i) || !reaches(caps_[level][i])) return;
     if (level == p_.quad) {
       const int blocks = ruleBlocks(p_.rule);
       cells_.push_back(i);
@@ -202,7 +217,7 @@ class Integrator {
   }
 
   void visitDeep(int level, std::uint64_t i, const FaceTri& t) {
-    if (!reaches(t)) return;
+    if (!onPath(level, i) || !reaches(t)) return;
     if (level == p_.quad) {
       cells_.push_back(i);
       deep_.emplace_back();
@@ -240,6 +255,10 @@ class Integrator {
 
   void deposit(std::uint64_t cell, double integral) {
     if (!(integral > 0.0)) return;
+    if (clip_) {
+      if (onPath(p_.store, cell)) clipSum_ += integral * weight_;
+      return;
+    }
     Rgb& v = s_.sums[std::size_t(p_.store)][cell];
     if (v == Rgb(0.0)) s_.touched.push_back(cell);
     v += integral * weight_;
@@ -281,6 +300,10 @@ class Integrator {
   LobeCache& cache_ = lobeCache();
   Vec3 m_{0, 0, 1};
   Rgb weight_{0.0};
+  bool clip_ = false;
+  int clipLevel_ = 0;
+  std::uint64_t clipIndex_ = 0;
+  Rgb clipSum_{0.0};
   double whole_ = 0.0;  // a unit lobe's integral inside one cell, over m_z (constructor)
   std::uint64_t evaluations_ = 0;
 };
@@ -352,6 +375,19 @@ HaarCellSums integrateLobesHaar(const LobeSet& lobes, int level, std::uint64_t& 
   }
   s.touched.clear();
   return out;
+}
+
+Rgb integrateLobesInCell(const LobeSet& lobes, int store, int level, std::uint64_t index, std::uint64_t& evaluations) {
+  store = std::clamp(store, 0, 8);
+  if (lobes.samples.empty() || level < 0 || level > store) return Rgb(0.0);
+  assert(std::abs(lobes.normal.z - 1.0) < 1e-9);
+  const Plan plan = makePlan(lobes.exponent, store);
+  const PhongPower power(lobes.exponent);
+  Integrator in(plan, power, scratch());
+  in.clipTo(level, index);
+  for (const LobeSample& l : lobes.samples) in.lobe(l);
+  evaluations += in.evaluations();
+  return in.clipped();
 }
 
 HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations,

@@ -35,7 +35,8 @@ std::vector<hr::OptionSpec> IlluminationSamples::options() const { return isOpti
 void IlluminationSamples::configure(const std::vector<hr::OptionValue>& values) {
   basis_ = parseIsOptions(values);
   refineReflections_ = parseReflectionRefine(values);
-  senderPoints_ = parseSenderExtent(values) ? kSenderPoints : 0;
+  senderPoints_ = parseOnOff(values, "sender-extent") ? kSenderPoints : 0;
+  exactHighlights_ = parseOnOff(values, "exact-highlights");
   finestLevel_ = levelCap(basis_);
   budgetLevels_ = -1;
   LobeCache::setMaxEntries(LobeCache::kMaxEntries);  // a budget of an earlier solve in this process is not this one's
@@ -113,6 +114,7 @@ void IlluminationSamples::resize(std::size_t elements, std::size_t clusters) {
   dirtyClusters_.resize(clusters, 0);
   change_.resize(elements, Rgb(0.0));
   layers_.resize(elements);
+  layerShown_.resize(elements);
   layerFrom_.resize(elements, hr::kNone);
 }
 
@@ -216,6 +218,7 @@ void IlluminationSamples::split(hr::NodeId parent, std::span<const hr::NodeId> c
       };
       scaled(*l);
       for (NodeLight& m : l->more) scaled(m);
+      auto shown = l->shown;
       // A child leaf of a curved surface (a display cell, or a split sphere leaf) faces elsewhere:
       // its light is re-projected into its own frame under its own horizon, as a leaf is reflected
       // and as a solution file restores it (a copy in the parent's frame came back turned).
@@ -223,6 +226,7 @@ void IlluminationSamples::split(hr::NodeId parent, std::span<const hr::NodeId> c
       if (ci.leaf && usableNormal(ci.normal) && l->normal != Vec3(0.0) && glm::dot(l->normal, ci.normal) < 1.0 - 1e-12) {
         const NodeLight* one[1] = {l.get()};
         l = sum(c, one);
+        l->shown = std::move(shown);
       }
       (*table)[c.index()] = std::move(l);
     }
@@ -269,6 +273,11 @@ std::size_t IlluminationSamples::reflectShared(hr::NodeId element, std::span<hr:
   if (!lobes.samples.empty()) {
     const HaarCellSums* above = from != hr::kNone ? layers_[from].get() : nullptr;
     layers_[e] = std::make_unique<HaarCellSums>(integrateLobes(lobes, materialLevel(info.material), rc, above));
+    // The display's shown light of the layer, as a leaf keeps its own (shown_light.h).
+    if (exactHighlights_)
+      layerShown_[e] = joinShown(from != hr::kNone ? layerShown_[from] : nullptr,
+                                 keepShown(taken, info.center, info.normal, m.specular, m.exponent,
+                                           materialLevel(info.material), senderPoints_));
     reach = e;
   }
   for (hr::NodeId c : children) layerFrom_[c.index()] = reach;
@@ -300,6 +309,10 @@ std::unique_ptr<IlluminationSamples::NodeLight> IlluminationSamples::reflected(h
   if (simulates(m) && (!lobes.samples.empty() || base)) {
     l->dist = projectLobes(lobes, spec, rc, base, info.area);
     finish(*l);
+    // The brightest samples stay for the display (shown_light.h); Haar cells are what they sharpen.
+    if (spec.basis == Basis::Haar && exactHighlights_)
+      l->shown = joinShown(from != hr::kNone ? layerShown_[from] : nullptr,
+                           keepShown(samples, info.center, info.normal, m.specular, n, spec.haar.maxLevel, senderPoints_));
     out = std::move(l);
   }
   counters_->add(rc);
@@ -330,10 +343,14 @@ void IlluminationSamples::reflectShot(hr::NodeId leaf, std::span<const hr::Incid
     for (auto* target : {s, u}) {
       if (!*target) {
         *target = std::make_unique<NodeLight>(*add);
+        if (target == u) (*target)->shown.reset();  // only the total is displayed
         continue;
       }
       const NodeLight* parts[2] = {target->get(), add.get()};
+      // A sum keeps no shown light of its own: the leaf's passes' brightest samples together.
+      auto shown = target == s ? joinShown((*target)->shown, add->shown) : nullptr;
       *target = sum(leaf, parts);
+      (*target)->shown = std::move(shown);
     }
     touch(leaf);
   }
@@ -416,7 +433,7 @@ IlluminationSamples::NodeLight IlluminationSamples::sumOneBasis(hr::NodeId node,
 void IlluminationSamples::pull(hr::NodeId node, std::span<const hr::NodeId> children) {
   std::uint64_t t0 = threadCpuNs();
   // Its subtree has been reflected: the layer it shared with its leaves is done with.
-  if (!node.isCluster() && node.index() < layers_.size()) layers_[node.index()].reset();
+  if (!node.isCluster() && node.index() < layers_.size()) layers_[node.index()].reset(), layerShown_[node.index()].reset();
   auto* s = slot(node);
   auto* u = slot(unshotElements_, unshotClusters_, node);
   if (!s || !u || !view_) return;
@@ -479,6 +496,7 @@ std::size_t IlluminationSamples::heldBytes() const {
 std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   double distributions = 0, leafDistributions = 0, coefficientsTotal = 0, coefficientsPeak = 0, bytesTotal = 0;
   double mixedNodes = 0;  // parts beyond the first in nodes mixing bases
+  double shownLights = 0, shownSamples = 0;  // the display's shown light (shown_light.h)
   auto scan = [&](const std::vector<std::unique_ptr<NodeLight>>& table) {
     for (const auto& l : table) {
       bytesTotal += sizeof(l);
@@ -488,6 +506,10 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       coefficientsTotal += c;
       coefficientsPeak = std::max(coefficientsPeak, c);
       bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(l->dist));
+      if (l->shown) {  // counted at every node that shares it: a bound
+        shownLights += 1, shownSamples += double(l->shown->samples.size());
+        bytesTotal += double(sizeof(ShownLight) + l->shown->samples.capacity() * sizeof(ShownLight::Sample));
+      }
       for (const NodeLight& m : l->more) {
         bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(m.dist));
         mixedNodes += 1;
@@ -531,6 +553,8 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"reflect_cpu_seconds_summed_over_threads", v(c.reflectCpuNs) * 1e-9},
       {"pull_cpu_seconds_summed_over_threads", v(c.pullCpuNs) * 1e-9},
       {"distribution_parts_in_other_bases", mixedNodes},
+      {"leaves_with_shown_light", shownLights},
+      {"shown_samples", shownSamples},
       {"dir_max_level_used", double(basis_.haar.maxLevel)},  // the finest of the materials' levels (budget: held lower)
   };
   // Which basis each glossy material's leaves hold (the choice --basis auto made, or the one given).

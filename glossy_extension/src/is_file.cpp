@@ -5,6 +5,9 @@
 // Version 2 (--basis auto): the header says whether bases were chosen per material, and every record
 // names its own basis, so one section holds distributions of several bases. Version 1 sections (one
 // basis, no per-record tag) are refused by the host with the versions named: re-solve to update.
+// Version 3: after the distributions, the leaves' shown light (shown_light.h: the brightest
+// incident samples the display sharpens highlights with), so a rendered file shows what the solve
+// showed.
 #include <glossy/illumination_samples.h>
 #include <glossy/is_options.h>
 #include <glossy/serial.h>
@@ -139,7 +142,53 @@ void checkHaar(const HaarDistribution& h, int maxLevel) {
       refuse("light below a leaf's horizon");
 }
 
+double readF64(std::istream& in) { return std::bit_cast<double>(serial::readU64(in)); }
+Vec3 readVec(std::istream& in) {
+  const double x = readF64(in), y = readF64(in), z = readF64(in);
+  return Vec3(x, y, z);
+}
+
 }  // namespace
+
+void IlluminationSamples::readShown(std::istream& in, Table& table) const {
+  const std::uint64_t count = serial::readU64(in);
+  if (count > table.size()) refuse("more shown lights than the solution has elements");
+  std::int64_t previous = -1;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    const std::uint32_t index = serial::readU32(in), n = serial::readU32(in);
+    const std::string where = "element " + std::to_string(index) + "'s shown light";
+    if (std::int64_t(index) <= previous) refuse(where + ": elements out of order or repeated");
+    previous = index;
+    if (index >= table.size() || !table[index] || !std::holds_alternative<HaarDistribution>(table[index]->dist))
+      refuse(where + ": no Haar distribution of its own");
+    if (n == 0 || n > std::uint32_t(kShownSamples)) refuse(where + ": " + std::to_string(n) + " samples");
+    auto sh = std::make_shared<ShownLight>();
+    sh->specular = readVec(in);
+    sh->exponent = readF64(in);
+    sh->total = readF64(in);
+    sh->level = int(serial::readU32(in));
+    sh->senderPoints = int(serial::readU32(in));
+    if (!hr::allFinite(sh->specular) || !glm::all(glm::greaterThanEqual(sh->specular, Rgb(0.0))) ||
+        !(sh->exponent >= 0.0) || !std::isfinite(sh->exponent) || sh->level < 0 || sh->level > kMaxDirLevel || !(sh->total > 0.0) || !std::isfinite(sh->total) ||
+        sh->senderPoints < 0 || sh->senderPoints > kSenderPoints)
+      refuse(where + ": values out of range");
+    for (std::uint32_t j = 0; j < n; ++j) {
+      ShownLight::Sample y;
+      const Vec3 from = readVec(in), normal = readVec(in), toSender = readVec(in), irradiance = readVec(in);
+      const double distance = readF64(in), radius = readF64(in);
+      if (!hr::allFinite(from) || !hr::allFinite(normal) || std::abs(glm::length(normal) - 1.0) > 1e-6 ||
+          !hr::allFinite(toSender) || std::abs(glm::length(toSender) - 1.0) > 1e-6 || !hr::allFinite(irradiance) ||
+          !glm::all(glm::greaterThanEqual(irradiance, Rgb(0.0))) || !(distance >= 0.0) || !(distance < 1e30) ||
+          !(radius >= 0.0) || !(radius < 1e30) || glm::any(glm::greaterThan(glm::abs(from), Vec3(1e30))) ||
+          glm::any(glm::greaterThan(irradiance, Rgb(1e30))))
+        refuse(where + ": sample " + std::to_string(j) + " out of range");
+      y.from = glm::vec3(from), y.normal = glm::vec3(normal), y.toSender = glm::vec3(toSender);
+      y.irradiance = glm::vec3(irradiance), y.distance = float(distance), y.radius = float(radius);
+      sh->samples.push_back(y);
+    }
+    table[index]->shown = std::move(sh);
+  }
+}
 
 void IlluminationSamples::save(std::ostream& sink) const {
   std::vector<std::uint32_t> leaves;
@@ -159,6 +208,31 @@ void IlluminationSamples::save(std::ostream& sink) const {
     sizes[k] = count.bytes();
     total += 4 + 4 + 8 + sizes[k];
   }
+  // The shown light: its leaves in order, each with its material's constants and its samples.
+  auto shownBlock = [&](std::ostream& out) {
+    auto f64 = [&](double x) { serial::writeU64(out, std::bit_cast<std::uint64_t>(x)); };
+    auto vec = [&](const Vec3& v) { f64(v.x), f64(v.y), f64(v.z); };
+    std::uint64_t count = 0;
+    for (std::uint32_t i : leaves) count += elements_[i]->shown ? 1 : 0;
+    serial::writeU64(out, count);
+    for (std::uint32_t i : leaves) {
+      const ShownLight* sh = elements_[i]->shown.get();
+      if (!sh) continue;
+      serial::writeU32(out, i);
+      serial::writeU32(out, std::uint32_t(sh->samples.size()));
+      vec(sh->specular), f64(sh->exponent), f64(sh->total);
+      serial::writeU32(out, std::uint32_t(sh->level));
+      serial::writeU32(out, std::uint32_t(sh->senderPoints));
+      for (const ShownLight::Sample& x : sh->samples)
+        vec(Vec3(x.from)), vec(Vec3(x.normal)), vec(Vec3(x.toSender)), vec(Vec3(x.irradiance)), f64(x.distance), f64(x.radius);
+    }
+  };
+  {
+    CountingBuffer count;
+    std::ostream c(&count);
+    shownBlock(c);
+    total += count.bytes();
+  }
   HashingBuffer hashing(sink.rdbuf());
   std::ostream out(&hashing);
   serial::writeU32(out, kMagic);
@@ -177,6 +251,7 @@ void IlluminationSamples::save(std::ostream& sink) const {
     serial::writeU64(out, sizes[k]);
     record(leaves[k], out);
   }
+  shownBlock(out);
   out.flush();
   serial::writeU64(sink, hashing.hash());
   if (hashing.bytes() + 8 != total) throw std::logic_error("solution section: counted and written sizes differ");
@@ -267,7 +342,8 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
       if (!hr::allFinite(l->power) || !hr::allFinite(l->peak)) refuse(where + ": values out of range");
       table[index] = std::move(l);
     }
-    if (std::size_t(in.tellg()) != body.size()) refuse("bytes after the last distribution");
+    readShown(in, table);
+    if (std::size_t(in.tellg()) != body.size()) refuse("bytes after the shown light");
   } catch (const hr::InputError&) {
     throw;
   } catch (const std::exception& e) {

@@ -70,6 +70,10 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
       {"sender-extent", "on (default) or off: a sample whose sender is seen wider than the receiver's lobe is "
                         "reflected as the sender's disk (spread over up to 8 directions), not as one lobe about "
                         "its centre (docs/glossy.md)"},
+      {"exact-highlights", "on (default) or off: the display reflects each glossy leaf's brightest incident "
+                           "samples (at most 32, each at least 1/64 of its light) exactly at the point shown, in "
+                           "place of their mean over the stored cell it reads; off shows the stored distribution "
+                           "alone, as the paper (docs/glossy.md, \"Highlights at display\")"},
   };
 }
 
@@ -127,9 +131,9 @@ ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& value
   return ReflectionRefine::Lobe;
 }
 
-bool parseSenderExtent(const std::vector<hr::OptionValue>& values) {
+bool parseOnOff(const std::vector<hr::OptionValue>& values, const std::string& name) {
   for (const auto& v : values)
-    if (v.name == "sender-extent") {
+    if (v.name == name) {
       if (v.value == "on") return true;
       if (v.value == "off") return false;
       fail(v.name, "must be on or off, got '" + v.value + "'");

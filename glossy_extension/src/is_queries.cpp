@@ -5,6 +5,7 @@
 #include <glossy/bound.h>
 #include <glossy/brdf.h>
 #include <glossy/illumination_samples.h>
+#include <glossy/sphere.h>
 #include <glossy/spherical_geometry.h>
 
 namespace glossy {
@@ -154,38 +155,72 @@ hr::Rgb IlluminationSamples::sampleExitant(hr::NodeId leaf, double u1, double u2
 
 hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye) const {
   const NodeLight* l = light(leaf);
-  if (!l || !hasHorizon(*l) || !(l->area > 0.0)) return Rgb(0.0);
-  double cosT = glm::dot(l->normal, toEye);
-  if (!(cosT > 0.0)) return Rgb(0.0);
-  if (const auto* h = std::get_if<HaarDistribution>(&l->dist)) {
-    // L = I / (A cos): with I a cell mean, divide by the cell's mean cosine (its projected solid
-    // angle over its solid angle), not the cosine at the eye. That is the radiance whose intensity
-    // has exactly that mean, and it stays finite at grazing: every cell above the horizon (the
-    // local frame's equator) has a positive mean cosine.
-    FaceTri cell;
-    const float* v = h->nodes()[h->locate(l->frame.toLocal(toEye), &cell)].rgb;
-    Vec3 a = cell.dir(0), b = cell.dir(1), c = cell.dir(2);
-    double omega = solidAngle(a, b, c), meanCos = omega > 0.0 ? projectedSolidAngle(a, b, c, Vec3(0, 0, 1)) / omega : 0.0;
-    if (!(meanCos > 0.0)) return Rgb(0.0);
-    return finiteOrZero(Rgb(v[0], v[1], v[2]) / (l->area * meanCos));
-  }
-  // Fixed bases hold directions only to their resolution, so the cosine they imply is not known
-  // below the sine of that angle: divide by no less (sin 6.8 deg at tetra level 3, sin 11.25 deg at SH order 8).
-  double floor = std::sin(0.5 * resolutionAngle(l->dist));
-  return finiteOrZero(intensity(leaf, toEye) / (l->area * std::max(cosT, floor)));
+  return l && l->shown ? radiance(leaf, toEye, l->normal, shownCentre(*l->shown)) : radiance(leaf, toEye, Vec3(0.0), Vec3(0.0));
 }
 
 hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal) const {
   const NodeLight* l = light(leaf);
-  const bool usable = hr::allFinite(normal) && std::abs(glm::length(normal) - 1.0) < 1e-6;
-  if (!l || !hasHorizon(*l) || !usable || glm::dot(normal, l->normal) >= 1.0 - 1e-12) return radiance(leaf, toEye);
-  if (!(glm::dot(normal, toEye) > 0.0)) return Rgb(0.0);
+  return radiance(leaf, toEye, normal, l && l->shown ? shownCentre(*l->shown) : Vec3(0.0));
+}
+
+namespace {
+
+/// A Haar leaf's radiance toward unit `seen` (W/(m^2 sr)): its cell's mean, less that cell's mean of
+/// the shown samples' lobes when it keeps some (the caller adds their exact reflection instead).
+Rgb haarRadiance(const IlluminationSamples::NodeLight& l, const HaarDistribution& h, const Vec3& seen) {
+  if (!(glm::dot(l.normal, seen) > 0.0)) return Rgb(0.0);
+  // L = I / (A cos): with I a cell mean, divide by the cell's mean cosine (its projected solid
+  // angle over its solid angle), not the cosine at the eye. That is the radiance whose intensity
+  // has exactly that mean, and it stays finite at grazing: every cell above the horizon (the
+  // local frame's equator) has a positive mean cosine.
+  const Vec3 local = l.frame.toLocal(seen);
+  Bary bary = octaBary(local);
+  const int face = octaFace(local);
+  std::uint32_t i = std::uint32_t(face);
+  std::uint64_t index = std::uint64_t(face);  // the cell's number at its level (cell_rules.h)
+  int level = 0;
+  FaceTri cell = octaRoot(face);
+  const auto& nodes = h.nodes();
+  while (nodes[i].child != 0) {
+    const int k = descend(bary);
+    i = nodes[i].child + std::uint32_t(k);
+    index = 4 * index + std::uint64_t(k);
+    cell = cell.child(k);
+    ++level;
+  }
+  const Vec3 a = cell.dir(0), b = cell.dir(1), c = cell.dir(2);
+  const double omega = solidAngle(a, b, c), meanCos = omega > 0.0 ? projectedSolidAngle(a, b, c, Vec3(0, 0, 1)) / omega : 0.0;
+  if (!(meanCos > 0.0)) return Rgb(0.0);
+  const float* v = nodes[i].rgb;
+  Rgb mean(v[0], v[1], v[2]);
+  if (l.shown && face < 4) mean -= shownCellMean(*l.shown, l.frame, l.area, level, index, omega);
+  return mean / (l.area * meanCos);
+}
+
+}  // namespace
+
+hr::Rgb IlluminationSamples::radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal,
+                                      const hr::Vec3& at) const {
+  const NodeLight* l = light(leaf);
+  if (!l || !hasHorizon(*l) || !(l->area > 0.0)) return Rgb(0.0);
+  const bool turned = hr::allFinite(normal) && std::abs(glm::length(normal) - 1.0) < 1e-6 &&
+                      glm::dot(normal, l->normal) < 1.0 - 1e-12;
+  const Vec3 n = turned ? normal : l->normal;
+  if (!(glm::dot(n, toEye) > 0.0)) return Rgb(0.0);
   // The leaf reflected its incident light about its one normal. A point of a curved surface mirrors
   // the same incident light about its own: the light it sends toward the eye came from in, which the
   // leaf mirrored toward seen. Turning the lookup by the normal's turn alone would move a highlight
   // half as far as the surface turns it (a mirror turns reflections by twice the normal's angle).
-  const Vec3 in = mirror(toEye, normal), seen = mirror(in, l->normal);
-  return radiance(leaf, seen);
+  const Vec3 seen = turned ? mirror(mirror(toEye, n), l->normal) : toEye;
+  if (const auto* h = std::get_if<HaarDistribution>(&l->dist)) {
+    Rgb L = haarRadiance(*l, *h, seen);
+    if (l->shown) L += shownRadiance(*l->shown, hr::allFinite(at) ? at : shownCentre(*l->shown), n, toEye);
+    return finiteOrZero(glm::max(L, Rgb(0.0)));
+  }
+  // Fixed bases hold directions only to their resolution, so the cosine they imply is not known
+  // below the sine of that angle: divide by no less (sin 6.8 deg at tetra level 3, sin 11.25 deg at SH order 8).
+  double floor = std::sin(0.5 * resolutionAngle(l->dist));
+  return finiteOrZero(intensity(leaf, seen) / (l->area * std::max(glm::dot(l->normal, seen), floor)));
 }
 
 std::size_t IlluminationSamples::coefficients(hr::NodeId leaf) const {

@@ -130,9 +130,14 @@ void RadianceClustering::push(hr::NodeId node, hr::IncidentSample sample, bool p
     std::int64_t before = target ? std::int64_t(glossy::coefficients(target->dist)) : 0;
     if (!target) {
       target = std::move(add);
-    } else if (recut_ || !addExactly(*target, *add)) {
-      const NodeLight* parts[2] = {target.get(), add.get()};
-      target = sum(node, parts);
+    } else {
+      // The display's shown light gathers sample by sample, as Illumination Samples keep it at once.
+      auto shown = joinShown(target->shown, add->shown);
+      if (recut_ || !addExactly(*target, *add)) {
+        const NodeLight* parts[2] = {target.get(), add.get()};
+        target = sum(node, parts);
+      }
+      target->shown = std::move(shown);
     }
     Counters::add(counters_->reflectCpuNs, threadCpuNs() - t0);
     rc_->gatheredCoefficients.fetch_add(std::int64_t(glossy::coefficients(target->dist)) - before,

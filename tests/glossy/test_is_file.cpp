@@ -5,6 +5,8 @@
 // a message that says so.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <cstdio>
 #include <random>
 
@@ -143,9 +145,14 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   glossy::IlluminationSamples ext;
   expectRefusal(ext, "", saved, "truncated");
   expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
-  std::string v3 = body;
-  v3[4] = 3;  // the format version field
-  expectRefusal(ext, resealed(v3), saved, "format version 3, this build reads version 2");
+  std::string v4 = body;
+  v4[4] = 4;  // the format version field
+  expectRefusal(ext, resealed(v4), saved, "format version 4, this build reads version 3");
+  // The shown light (last in the section): its last sample's radius made negative.
+  std::string radius = body;
+  const double minusOne = -1.0;
+  std::memcpy(&radius[radius.size() - 8], &minusOne, 8);
+  expectRefusal(ext, resealed(radius), saved, "shown light: sample");
   std::string flag = body;
   flag[8] = 2;  // the automatic-basis flag: 0 or 1
   expectRefusal(ext, resealed(flag), saved, "bad automatic-basis flag 2");

@@ -23,7 +23,7 @@ TEST(IsOptions, DefaultsAreThePapersSolvingSettings) {
   std::vector<std::string> names;
   for (const auto& o : ext->options()) names.push_back(o.name);
   EXPECT_EQ(names, (std::vector<std::string>{"basis", "dir-eps", "dir-min-level", "dir-max-level", "tetra-level", "sh-order",
-                                             "reflection-refine", "sender-extent"}));
+                                             "reflection-refine", "sender-extent", "exact-highlights"}));
 }
 
 /// What the host's oracle is told of a material (docs/glossy.md, "The reflection term"): the lobe's
@@ -119,7 +119,7 @@ TEST(IsOptions, RefusedValuesNameTheOption) {
       {{{"sender-extent", "on"}, {"sender-extent", "off"}}, "--sender-extent: given twice"},
       {{{"eps", "0.1"}},
        "--eps: not an option of --algorithm is (valid: basis, dir-eps, dir-min-level, dir-max-level, tetra-level, sh-order, "
-       "reflection-refine, sender-extent)"},
+       "reflection-refine, sender-extent, exact-highlights)"},
   };
   for (const Row& r : rows) {
     glossy::IlluminationSamples ext;

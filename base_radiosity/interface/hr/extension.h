@@ -212,6 +212,12 @@ class Extension {
   /// The same at a point whose surface normal is unit `normal` (a curved or smoothly shaded surface
   /// turns away from its leaf's plane): a glossy lobe follows the point's normal, not the leaf's.
   virtual Rgb radiance(NodeId leaf, const Vec3& toEye, const Vec3& /*normal*/) const { return radiance(leaf, toEye); }
+  /// The same seen at point `at` (m) of the leaf, with a zero normal meaning the leaf's own: an
+  /// extension that keeps a leaf's brightest incident light re-aims it from there, so a highlight is
+  /// as sharp as its source, not the leaf.
+  virtual Rgb radiance(NodeId leaf, const Vec3& toEye, const Vec3& normal, const Vec3& /*at*/) const {
+    return normal == Vec3(0.0) ? radiance(leaf, toEye) : radiance(leaf, toEye, normal);
+  }
   /// Directional coefficients a leaf holds (inspection files); 0 for none.
   virtual std::size_t coefficients(NodeId /*leaf*/) const { return 0; }
 

@@ -33,6 +33,27 @@ Vec3 CurvedSurface::normalAt(const Vec3& p) const {
   return (inward ? -1.0 : 1.0) * n / len;
 }
 
+Vec3 CurvedSurface::meet(const Vec3& p, const Vec3& dir) const {
+  if (kind == CurvedKind::None) return p;
+  const Vec3 o(toLocal * glm::dvec4(p, 1.0)), d(toLocal * glm::dvec4(dir, 0.0));
+  // The quadric along o + t d as a t^2 + b t + c = 0 (t in world units: the map is affine).
+  double a, b, c;
+  if (kind == CurvedKind::Sphere) {
+    a = glm::dot(d, d), b = 2.0 * glm::dot(o, d), c = glm::dot(o, o) - r0 * r0;
+  } else {
+    const double k = height > 0.0 ? (r1 - r0) / height : 0.0, r = r0 + k * o.z;
+    a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
+    b = 2.0 * (o.x * d.x + o.y * d.y - k * d.z * r);
+    c = o.x * o.x + o.y * o.y - r * r;
+  }
+  const double disc = b * b - 4.0 * a * c;
+  if (!(std::abs(a) > 0.0) || !(disc >= 0.0)) return p;
+  // The root furthest along dir: the first the viewer's ray meets coming from that side.
+  const double s = std::sqrt(disc), t = std::max((-b - s) / (2.0 * a), (-b + s) / (2.0 * a));
+  const Vec3 q = p + t * dir;
+  return allFinite(q) ? q : p;
+}
+
 glm::dmat4 frameAt(const Vec3& origin, const Vec3& axis) {
   const Vec3 w = glm::normalize(axis);
   const Vec3 a = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);

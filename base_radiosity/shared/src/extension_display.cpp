@@ -116,7 +116,7 @@ std::size_t ExtensionDisplay::update(const Vec3& eye, double thresholdDeg) {
       ++count;
       for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
         const Vec3& n = normal_[v];
-        Rgb L = n != Vec3(0.0) ? ext_.radiance(NodeId{member_[m]}, d, n) : ext_.radiance(NodeId{member_[m]}, d);
+        Rgb L = ext_.radiance(NodeId{member_[m]}, d, n, pos_[v]);
         value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
       }
     }
@@ -150,8 +150,11 @@ Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x, const Vec3& to
   const std::uint32_t c = cornerOf_[leaf];
   const std::array<double, 4> w = cornerWeights(s_, leaf, x);
   const Vec3& own = s_.patches[s_.elements[leaf].patch].normal;
-  // The surface's own normal at x where the solution knows it; else the corners' interpolated.
-  Vec3 n = surfaceNormal(s_, s_.elements[leaf].patch, x);
+  // The surface's own point and normal where the solution knows the surface (the ray met a facet
+  // or a display cell, a chord of it); else the corners' interpolated normal at x.
+  const std::uint32_t object = s_.patches[s_.elements[leaf].patch].object;
+  const Vec3 at = object < s_.surfaces.size() ? s_.surfaces[object].meet(x, toEye) : x;
+  Vec3 n = surfaceNormal(s_, s_.elements[leaf].patch, at);
   if (n == Vec3(0.0)) {
     for (std::uint32_t k = 0; k < 4; ++k) {
       const Vec3& nv = normal_[cornerVertex_[c + k]];
@@ -166,7 +169,7 @@ Rgb ExtensionDisplay::radiance(std::uint32_t leaf, const Vec3& x, const Vec3& to
     Rgb sum(0.0);
     double a = 0.0;
     for (std::uint32_t u = useStart_[c + k]; u < useStart_[c + k + 1]; ++u) {
-      Rgb L = ext_.radiance(NodeId{member_[use_[u]]}, toEye, n);
+      Rgb L = ext_.radiance(NodeId{member_[use_[u]]}, toEye, n, at);
       sum += memberArea_[use_[u]] * (allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0));
       a += memberArea_[use_[u]];
     }

@@ -32,6 +32,12 @@ namespace glossy {
 HaarCellSums integrateLobesHaar(const LobeSet& lobes, int level, std::uint64_t& evaluations,
                                 const HaarCellSums* base = nullptr, double scale = 1.0);
 
+/// The lobes' integral over the one upper cell (level, index) (W), as integrateLobesHaar at `store`
+/// would sum it from its cells there (to rounding: summed in another order), but visiting only the
+/// cells inside that one (the
+/// display reads one cell per view: shown_light.h).
+Rgb integrateLobesInCell(const LobeSet& lobes, int store, int level, std::uint64_t index, std::uint64_t& evaluations);
+
 /// The lobes (in a planar leaf's frame: normal +z), and base * scale when given (at o.maxLevel),
 /// projected with the options; adds the lobe evaluations (one BRDF evaluation each) to `evaluations`.
 HaarDistribution projectLobesHaar(const LobeSet& lobes, const HaarOptions& o, std::uint64_t& evaluations,

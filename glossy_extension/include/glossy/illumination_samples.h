@@ -23,6 +23,7 @@
 #include <glossy/frame.h>
 #include <glossy/is_options.h>
 #include <glossy/reflection.h>
+#include <glossy/shown_light.h>
 #include <hr/extension.h>
 
 #include <atomic>
@@ -70,9 +71,10 @@ class IlluminationSamples : public hr::Extension {
   hr::Rgb sampleExitant(hr::NodeId leaf, double u1, double u2, hr::Vec3& dir) const override;
   hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye) const override;
   hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal) const override;
+  hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal, const hr::Vec3& at) const override;
   std::size_t coefficients(hr::NodeId leaf) const override;
 
-  std::uint32_t formatVersion() const override { return 2; }
+  std::uint32_t formatVersion() const override { return 3; }
   void save(std::ostream& out) const override;
   void load(std::string_view bytes, const hr::HostView& view) override;
   std::vector<hr::StatEntry> stats() const override;
@@ -97,6 +99,8 @@ class IlluminationSamples : public hr::Extension {
     /// exactly within that basis, never re-projected into another (a sharp Haar lobe would smear in
     /// spherical harmonics, a broad one cost Haar cells and power exactness). Parts hold no parts.
     std::vector<NodeLight> more;
+    /// A leaf's brightest incident samples, for the display only (shown_light.h); shared by copies.
+    std::shared_ptr<const ShownLight> shown;
     Rgb totalPower() const;
     std::size_t totalCoefficients() const;
   };
@@ -127,6 +131,8 @@ class IlluminationSamples : public hr::Extension {
   int levelFor(double exponent) const;
   /// The sum of lights that all hold one basis, as `node`'s light in that basis.
   NodeLight sumOneBasis(hr::NodeId node, Basis b, std::span<const NodeLight* const> parts) const;
+  /// Reads the solution file's shown light into the leaves of `table` (is_file.cpp).
+  void readShown(std::istream& in, Table& table) const;
   /// Sizes every per-node table (they only grow).
   virtual void resize(std::size_t elements, std::size_t clusters);
   /// A leaf's reflection of some samples as a light of its own (frame, area, normal), or nullptr when
@@ -158,6 +164,7 @@ class IlluminationSamples : public hr::Extension {
   // sums per unit area of its own and its ancestors' shared samples (freed by its pull); per element,
   // the element whose sums reach it from above, or hr::kNone.
   std::vector<std::unique_ptr<HaarCellSums>> layers_;
+  std::vector<std::shared_ptr<const ShownLight>> layerShown_;  // per layer: its shown light and its ancestors'
   std::vector<std::uint32_t> layerFrom_;
   std::unique_ptr<Counters> counters_;
   double peakHeld_ = 0.0;
@@ -167,6 +174,7 @@ class IlluminationSamples : public hr::Extension {
   int pullFloor_ = 3;  // the coarsest Haar material's level: sums are never projected coarser
   ReflectionRefine refineReflections_ = ReflectionRefine::Lobe;  // --reflection-refine: what reflector() reports
   int senderPoints_ = kSenderPoints;  // --sender-extent: directions a wide sender is spread over (0: off)
+  bool exactHighlights_ = true;        // --exact-highlights: leaves keep their shown light (shown_light.h)
 };
 
 }  // namespace glossy

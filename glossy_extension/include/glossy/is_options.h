@@ -6,6 +6,7 @@
 #include <glossy/distribution.h>
 #include <hr/extension.h>
 
+#include <string>
 #include <vector>
 
 namespace glossy {
@@ -28,9 +29,10 @@ enum class ReflectionRefine { Off, Lobe, Cell };
 /// --reflection-refine; throws hr::InputError for a value not on/cell/off. parseIsOptions has checked
 /// the names and that none is given twice.
 ReflectionRefine parseReflectionRefine(const std::vector<hr::OptionValue>& values);
-/// --sender-extent on (default) or off: whether a sender seen wider than the lobe is reflected as
-/// its disk (reflection.h) or as one direction, as before.
-bool parseSenderExtent(const std::vector<hr::OptionValue>& values);
+/// An on/off option that is on unless given as off (--sender-extent: a sender seen wider than the
+/// lobe reflected as its disk, reflection.h; --exact-highlights: the display's shown light,
+/// shown_light.h); throws hr::InputError for any other value.
+bool parseOnOff(const std::vector<hr::OptionValue>& values, const std::string& name);
 
 /// Checks a basis as a solution file states it; throws hr::InputError prefixed by `context`.
 void validateIsBasis(const BasisSpec& b, const std::string& context);

@@ -32,6 +32,11 @@ struct CurvedSurface {
   /// own radial direction through p meets; Vec3(0) where that is undefined (a frustum's axis, a
   /// sphere's centre) or for kind None.
   Vec3 normalAt(const Vec3& p) const;
+  /// Where a viewer looking back along unit dir (toward the viewer) through p first meets the surface:
+  /// a ray that hit a display facet near the surface, moved onto the surface itself (a highlight sits
+  /// where the surface's own point mirrors its source). p where the line misses the quadric or kind is
+  /// None.
+  Vec3 meet(const Vec3& p, const Vec3& dir) const;
 };
 
 /// The frame whose z axis is the unit axis and whose origin is origin (x and y any orthonormal pair).

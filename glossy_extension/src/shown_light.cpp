@@ -1,0 +1,148 @@
+// A leaf's brightest incident light for the display (see shown_light.h): which samples are kept, the
+// cell mean of their lobes as the solve deposits them, and their reflection at a shown point.
+#include <glossy/brdf.h>
+#include <glossy/cell_rules.h>
+#include <glossy/haar_lobes.h>
+#include <glossy/lobe_level.h>
+#include <glossy/reflection.h>
+#include <glossy/shown_light.h>
+#include <glossy/sphere.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace glossy {
+
+namespace {
+
+bool usable(const hr::IncidentSample& s) {
+  return hr::allFinite(s.irradiance) && hr::allFinite(s.toSender) && glm::length(s.toSender) > 0.0 &&
+         glm::all(glm::greaterThanEqual(s.irradiance, Rgb(0.0))) && hr::luminance(s.irradiance) > 0.0 &&
+         std::isfinite(s.distance) && std::isfinite(s.radius);
+}
+
+/// Those that keep their share of the total, the brightest first (ties in arrival order), at most
+/// kShownSamples.
+void keepBrightest(std::vector<ShownLight::Sample>& v, double total) {
+  std::erase_if(v, [&](const ShownLight::Sample& x) { return !(hr::luminance(Rgb(x.irradiance)) >= kShownShare * total); });
+  std::stable_sort(v.begin(), v.end(), [](const ShownLight::Sample& a, const ShownLight::Sample& b) {
+    return hr::luminance(Rgb(a.irradiance)) > hr::luminance(Rgb(b.irradiance));
+  });
+  if (v.size() > std::size_t(kShownSamples)) v.resize(std::size_t(kShownSamples));
+}
+
+// Directions a source's disk is integrated over at the display: enough that a disk several lobe
+// widths across shows its shape (each direction is one cos^n evaluation per shown point).
+constexpr int kDiskPoints = 32;
+
+}  // namespace
+
+std::shared_ptr<const ShownLight> keepShown(std::span<const hr::IncidentSample> samples, const Vec3& from,
+                                            const Vec3& normal, const Rgb& specular, double exponent,
+                                            int level, int senderPoints) {
+  double total = 0.0;
+  for (const hr::IncidentSample& s : samples)
+    if (usable(s) && glm::dot(s.toSender, normal) > 0.0) total += hr::luminance(s.irradiance);
+  if (!(total > 0.0)) return nullptr;
+  auto out = std::make_shared<ShownLight>();
+  const double widest = kShownWidth * lobeWidth(exponent);
+  for (const hr::IncidentSample& s : samples)
+    if (usable(s) && glm::dot(s.toSender, normal) > 0.0 && hr::luminance(s.irradiance) >= kShownShare * total &&
+        !(s.distance > 0.0 && s.radius > widest * s.distance)) {
+      out->samples.push_back({glm::vec3(glm::normalize(s.toSender)), glm::vec3(s.irradiance), glm::vec3(from),
+                              glm::vec3(normal), float(s.distance), float(s.radius)});
+    }
+  keepBrightest(out->samples, total);
+  if (out->samples.empty()) return nullptr;
+  out->total = total;
+  out->specular = specular;
+  out->exponent = exponent;
+  out->level = level;
+  out->senderPoints = senderPoints;
+  return out;
+}
+
+std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLight>& a,
+                                            const std::shared_ptr<const ShownLight>& b) {
+  if (!a || a->samples.empty()) return b;
+  if (!b || b->samples.empty()) return a;
+  auto out = std::make_shared<ShownLight>(*b);
+  out->samples = a->samples;
+  out->samples.insert(out->samples.end(), b->samples.begin(), b->samples.end());
+  out->total = a->total + b->total;
+  keepBrightest(out->samples, out->total);
+  return out;
+}
+
+Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega) {
+  if (!(omega > 0.0)) return Rgb(0.0);
+  // Each sample's lobes as its leaf deposited them (about that leaf's normal), turned into this frame.
+  LobeSet lobes;
+  lobes.exponent = s.exponent;
+  ReflectCounts rc;
+  for (const ShownLight::Sample& x : s.samples) {
+    const Frame own = Frame::around(Vec3(x.normal));
+    const hr::IncidentSample in = x.in();
+    const LobeSet one = makeLobes({&in, 1}, own, Vec3(x.normal), area, s.specular, s.exponent, 0.0, rc, s.senderPoints, cellSize(s.level));
+    for (const LobeSample& l : one.samples) lobes.samples.push_back({frame.toLocal(own.toWorld(l.mirror)), l.weight, false});
+  }
+  // At the leaf's own level and summed up to the cell read, as the stored tree's means were: the
+  // same quadrature, so the two means differ by rounding alone. A cell finer than that level (a
+  // re-projected child's) gets the mean of the cell of that level holding it.
+  std::uint64_t evaluations = 0;
+  if (level > s.level) {
+    const std::uint64_t holder = index >> (2 * (level - s.level));
+    const double whole = UpperCells::cell(s.level, holder).solidAngle();
+    return whole > 0.0 ? integrateLobesInCell(lobes, s.level, s.level, holder, evaluations) / whole : Rgb(0.0);
+  }
+  return integrateLobesInCell(lobes, s.level, level, index, evaluations) / omega;
+}
+
+Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye) {
+  const Rgb f = s.specular * ((s.exponent + 2.0) / (2.0 * kPi));
+  const double width = lobeWidth(s.exponent);
+  Rgb sum(0.0);
+  for (const ShownLight::Sample& smp : s.samples) {
+    // Re-aimed from x: the sender's centre where its distance is known, else the same direction.
+    const hr::IncidentSample in = smp.in();
+    Vec3 wi = in.toSender;
+    double d = 0.0;
+    if (in.distance > 0.0) {
+      const Vec3 p = Vec3(smp.from) + in.distance * in.toSender - x;
+      d = glm::length(p);
+      if (d > 0.0) wi = p / d;
+    }
+    const double cosX = glm::dot(n, wi), cosLeaf = glm::dot(Vec3(smp.normal), in.toSender);
+    if (!(cosX > 0.0) || !(cosLeaf > 0.0)) continue;
+    // The irradiance on x's tangent plane at x's distance, from the leaf's mean on its own plane;
+    // held to a factor of 4 either way (a sender nearer than the leaf is wide).
+    double scale = cosX / cosLeaf;
+    if (d > 0.0) scale *= (in.distance / d) * (in.distance / d);
+    const Rgb e = in.irradiance * std::clamp(scale, 0.25, 4.0);
+    const double seen = d > 0.0 && in.radius > 0.0 ? in.radius / d : 0.0;
+    if (!(seen > 0.25 * width)) {
+      const double a = glm::dot(mirror(wi, n), toEye);
+      if (a > 0.0) sum += f * e * std::pow(std::min(a, 1.0), s.exponent);
+      continue;
+    }
+    // The sender's disk, evenly bright: directions on a sunflower over it, each carrying irradiance
+    // in proportion to its cosine at x (equal solid angles); those below x's horizon send nothing.
+    const double r = std::tan(std::min(seen, 1.2));
+    Vec3 u, v;
+    orthonormalBasis(wi, u, v);
+    double weights = 0.0, lit = 0.0;
+    for (int j = 0; j < kDiskPoints; ++j) {
+      const double rho = r * std::sqrt((j + 0.5) / kDiskPoints), phi = 2.399963229728653 * j;
+      const Vec3 dj = glm::normalize(wi + rho * (std::cos(phi) * u + std::sin(phi) * v));
+      const double c = glm::dot(n, dj);
+      if (!(c > 0.0)) continue;
+      weights += c;
+      const double a = glm::dot(mirror(dj, n), toEye);
+      if (a > 0.0) lit += c * std::pow(std::min(a, 1.0), s.exponent);
+    }
+    if (weights > 0.0) sum += f * e * (lit / weights);
+  }
+  return sum;
+}
+
+}  // namespace glossy
