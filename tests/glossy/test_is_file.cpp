@@ -52,6 +52,7 @@ std::vector<double> fingerprint(const hr::Extension& ext, const testhost::FakeHo
       Vec3 d = testdirs::sphere(g), s;
       push(ext.intensity(leaf, d));
       push(ext.radiance(leaf, d));
+      push(ext.radiance(leaf, d, Vec3(0.0), host.info(leaf).center));  // with the shown light (shown_light.h)
       push(ext.intensityBound(leaf, d, 0.9));
       push(ext.sampleExitant(leaf, u(g), u(g), s));
       push(s);

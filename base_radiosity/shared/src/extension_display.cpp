@@ -116,7 +116,7 @@ std::size_t ExtensionDisplay::update(const Vec3& eye, double thresholdDeg) {
       ++count;
       for (std::uint32_t m = memberStart_[v]; m < memberStart_[v + 1]; ++m) {
         const Vec3& n = normal_[v];
-        Rgb L = ext_.radiance(NodeId{member_[m]}, d, n, pos_[v]);
+        Rgb L = n != Vec3(0.0) ? ext_.radiance(NodeId{member_[m]}, d, n) : ext_.radiance(NodeId{member_[m]}, d);
         value_[m] = allFinite(L) ? glm::max(L, Rgb(0.0)) : Rgb(0.0);
       }
     }

@@ -131,6 +131,9 @@ class IlluminationSamples : public hr::Extension {
   int levelFor(double exponent) const;
   /// The sum of lights that all hold one basis, as `node`'s light in that basis.
   NodeLight sumOneBasis(hr::NodeId node, Basis b, std::span<const NodeLight* const> parts) const;
+  /// Radiance toward the eye seen at normal (zero: the leaf's own), with the shown light re-aimed
+  /// from *at when given (is_queries.cpp).
+  hr::Rgb radianceAt(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal, const hr::Vec3* at) const;
   /// Reads the solution file's shown light into the leaves of `table` (is_file.cpp).
   void readShown(std::istream& in, Table& table) const;
   /// Sizes every per-node table (they only grow).

@@ -63,7 +63,4 @@ Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int leve
 /// and distance to x's, and integrated over its disk.
 Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye);
 
-/// The point a leaf's display re-aims from when it is not told one: its first sample's leaf centre.
-inline Vec3 shownCentre(const ShownLight& s) { return s.samples.empty() ? Vec3(0.0) : Vec3(s.samples.front().from); }
-
 }  // namespace glossy
