@@ -2,7 +2,9 @@
 // reflects only as means over its stored cells, reflected about the leaf's centre: a small bright
 // source's highlight is then as wide as a cell, and on a curved surface it sits where the leaf's
 // centre puts it. So a leaf also keeps its brightest samples (each at least kShownShare of the
-// irradiance its samples bring, at most kShownSamples of them), and the display adds, inside the one
+// irradiance its samples bring, from a sender seen no wider than kShownWidth lobe widths, at most
+// kShownSamples of them), and a display view that names its point (still images' curved leaves,
+// per pixel; not display vertices, where it would cost a cell integral each and alias) adds, inside the one
 // cell it reads, their reflection at the point and normal it shows, the source integrated over its
 // disk and re-aimed from that point, minus that cell's mean of the same samples' lobes as the
 // solve deposited them. Over every cell the addition averages to the sources' exact reflection
