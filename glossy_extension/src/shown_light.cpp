@@ -71,6 +71,8 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
   out->samples.insert(out->samples.end(), b->samples.begin(), b->samples.end());
   out->total = a->total + b->total;
   keepBrightest(out->samples, out->total);
+  // Every sample may lose its share of the joint total (many passes of equal light): none is kept.
+  if (out->samples.empty()) return nullptr;
   return out;
 }
 

@@ -148,4 +148,22 @@ TEST(ShownLight, ALeafLitEvenlyOrByAWideSenderKeepsNone) {
   EXPECT_FALSE(same({wide}));
 }
 
+TEST(ShownLight, AJoinThatKeepsNothingIsNoShownLight) {
+  // A shooting leaf's passes (or Radiance Clustering's samples) joined: 65 equal senders, each 1/65
+  // of the joint light, under the 1/64 share. The join keeps none and is no shown light at all (an
+  // empty one was saved, and the solution file then refused its own section: "0 samples").
+  auto keep = [](int count, double first) {
+    std::vector<hr::IncidentSample> s;
+    for (int k = 0; k < count; ++k) s.push_back(pointSource(testhost::around(Vec3(0, 0, 1), first + 0.01 * k, 0.3 * k), kE, 2.0));
+    return glossy::keepShown(s, Vec3(0.0), Vec3(0, 0, 1), Rgb(0.5), kN, 4, glossy::kSenderPoints);
+  };
+  const auto one = keep(1, 0.2), many = keep(64, 0.4);
+  ASSERT_NE(one, nullptr);
+  ASSERT_NE(many, nullptr);
+  EXPECT_EQ(many->samples.size(), std::size_t(glossy::kShownSamples));
+  EXPECT_EQ(glossy::joinShown(one, many), nullptr);
+  EXPECT_EQ(glossy::joinShown(many, one), nullptr);
+  EXPECT_EQ(glossy::joinShown(one, one)->samples.size(), 2u);
+}
+
 }  // namespace
