@@ -44,17 +44,23 @@ void HaarDistribution::merge(std::uint32_t i, const HaarDistribution& o, std::ui
   for (std::uint32_t k = 0; k < 4; ++k) merge(ci + k, o, b.child + k);
 }
 
-std::uint32_t HaarDistribution::locate(const Vec3& d, FaceTri* cell) const {
+std::uint32_t HaarDistribution::locate(const Vec3& d, FaceTri* cell, int* level, std::uint64_t* index) const {
   Bary b = octaBary(d);
   int face = octaFace(d);
   auto i = static_cast<std::uint32_t>(face);
   FaceTri t = octaRoot(face);
+  int depth = 0;
+  std::uint64_t number = std::uint64_t(face);
   while (nodes_[i].child != 0) {
     int k = descend(b);
     i = nodes_[i].child + static_cast<std::uint32_t>(k);
     if (cell) t = t.child(k);
+    number = 4 * number + std::uint64_t(k);
+    ++depth;
   }
   if (cell) *cell = t;
+  if (level) *level = depth;
+  if (index) *index = number;
   return i;
 }
 

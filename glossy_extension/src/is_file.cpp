@@ -12,7 +12,6 @@
 #include <glossy/is_options.h>
 #include <glossy/serial.h>
 
-#include <bit>
 #include <map>
 #include <sstream>
 #include <streambuf>
@@ -142,9 +141,8 @@ void checkHaar(const HaarDistribution& h, int maxLevel) {
       refuse("light below a leaf's horizon");
 }
 
-double readF64(std::istream& in) { return std::bit_cast<double>(serial::readU64(in)); }
 Vec3 readVec(std::istream& in) {
-  const double x = readF64(in), y = readF64(in), z = readF64(in);
+  const double x = serial::readF64(in), y = serial::readF64(in), z = serial::readF64(in);
   return Vec3(x, y, z);
 }
 
@@ -164,8 +162,8 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
     if (n == 0 || n > std::uint32_t(kShownSamples)) refuse(where + ": " + std::to_string(n) + " samples");
     auto sh = std::make_shared<ShownLight>();
     sh->specular = readVec(in);
-    sh->exponent = readF64(in);
-    sh->total = readF64(in);
+    sh->exponent = serial::readF64(in);
+    sh->total = serial::readF64(in);
     sh->level = int(serial::readU32(in));
     sh->senderPoints = int(serial::readU32(in));
     if (!hr::allFinite(sh->specular) || !glm::all(glm::greaterThanEqual(sh->specular, Rgb(0.0))) ||
@@ -175,7 +173,7 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
     for (std::uint32_t j = 0; j < n; ++j) {
       ShownLight::Sample y;
       const Vec3 from = readVec(in), normal = readVec(in), toSender = readVec(in), irradiance = readVec(in);
-      const double distance = readF64(in), radius = readF64(in);
+      const double distance = serial::readF64(in), radius = serial::readF64(in);
       if (!hr::allFinite(from) || !hr::allFinite(normal) || std::abs(glm::length(normal) - 1.0) > 1e-6 ||
           !hr::allFinite(toSender) || std::abs(glm::length(toSender) - 1.0) > 1e-6 || !hr::allFinite(irradiance) ||
           !glm::all(glm::greaterThanEqual(irradiance, Rgb(0.0))) || !(distance >= 0.0) || !(distance < 1e30) ||
@@ -210,7 +208,7 @@ void IlluminationSamples::save(std::ostream& sink) const {
   }
   // The shown light: its leaves in order, each with its material's constants and its samples.
   auto shownBlock = [&](std::ostream& out) {
-    auto f64 = [&](double x) { serial::writeU64(out, std::bit_cast<std::uint64_t>(x)); };
+    auto f64 = [&](double x) { serial::writeF64(out, x); };
     auto vec = [&](const Vec3& v) { f64(v.x), f64(v.y), f64(v.z); };
     std::uint64_t count = 0;
     for (std::uint32_t i : leaves) count += elements_[i]->shown ? 1 : 0;
@@ -239,7 +237,7 @@ void IlluminationSamples::save(std::ostream& sink) const {
   serial::writeU32(out, formatVersion());
   serial::writeU32(out, basis_.automatic ? 1u : 0u);
   serial::writeU32(out, std::uint32_t(basis_.basis));
-  serial::writeU64(out, std::bit_cast<std::uint64_t>(basis_.haar.eps));
+  serial::writeF64(out, basis_.haar.eps);
   serial::writeU32(out, std::uint32_t(basis_.haar.minLevel));
   serial::writeU32(out, std::uint32_t(basis_.haar.maxLevel));
   serial::writeU32(out, std::uint32_t(basis_.tetraLevel));
@@ -278,7 +276,7 @@ void IlluminationSamples::load(std::string_view bytes, const hr::HostView& view)
     std::uint32_t basis = serial::readU32(in);
     if (basis > 2) refuse("unknown basis " + std::to_string(basis));
     b.basis = Basis(basis);
-    b.haar.eps = std::bit_cast<double>(serial::readU64(in));
+    b.haar.eps = serial::readF64(in);
     b.haar.minLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
     b.haar.maxLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));
     b.tetraLevel = int(std::min<std::uint32_t>(serial::readU32(in), 1000));

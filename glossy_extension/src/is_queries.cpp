@@ -5,7 +5,6 @@
 #include <glossy/bound.h>
 #include <glossy/brdf.h>
 #include <glossy/illumination_samples.h>
-#include <glossy/sphere.h>
 #include <glossy/spherical_geometry.h>
 
 namespace glossy {
@@ -180,27 +179,16 @@ Rgb haarRadiance(const IlluminationSamples::NodeLight& l, const HaarDistribution
   // angle over its solid angle), not the cosine at the eye. That is the radiance whose intensity
   // has exactly that mean, and it stays finite at grazing: every cell above the horizon (the
   // local frame's equator) has a positive mean cosine.
-  const Vec3 local = l.frame.toLocal(seen);
-  Bary bary = octaBary(local);
-  const int face = octaFace(local);
-  std::uint32_t i = std::uint32_t(face);
-  std::uint64_t index = std::uint64_t(face);  // the cell's number at its level (cell_rules.h)
+  FaceTri cell;
   int level = 0;
-  FaceTri cell = octaRoot(face);
-  const auto& nodes = h.nodes();
-  while (nodes[i].child != 0) {
-    const int k = descend(bary);
-    i = nodes[i].child + std::uint32_t(k);
-    index = 4 * index + std::uint64_t(k);
-    cell = cell.child(k);
-    ++level;
-  }
+  std::uint64_t index = 0;
+  const std::uint32_t i = h.locate(l.frame.toLocal(seen), &cell, &level, &index);
   const Vec3 a = cell.dir(0), b = cell.dir(1), c = cell.dir(2);
   const double omega = solidAngle(a, b, c), meanCos = omega > 0.0 ? projectedSolidAngle(a, b, c, Vec3(0, 0, 1)) / omega : 0.0;
   if (!(meanCos > 0.0)) return Rgb(0.0);
-  const float* v = nodes[i].rgb;
+  const float* v = h.nodes()[i].rgb;
   Rgb mean(v[0], v[1], v[2]);
-  if (shown && face < 4) mean -= shownCellMean(*l.shown, l.frame, l.area, level, index, omega);
+  if (shown) mean -= shownCellMean(*l.shown, l.frame, l.area, level, index, omega);
   return mean / (l.area * meanCos);
 }
 

@@ -159,8 +159,7 @@ LobeSet makeLobes(std::span<const hr::IncidentSample> samples, const Frame& fram
     std::array<Vec3, kSenderPoints> dirs;
     int front = 0;
     for (int j = 0; j < pairs; ++j) {
-      const double rho = r * std::sqrt((j + 0.5) / pairs), phi = 2.399963229728653 * j;  // the golden angle
-      const Vec3 t = rho * (std::cos(phi) * u + std::sin(phi) * v);
+      const Vec3 t = sunflowerPoint(u, v, r, j, pairs);
       for (const Vec3& d : {glm::normalize(wi + t), glm::normalize(wi - t)})
         if (glm::dot(set.normal, d) > 0.0) dirs[front++] = d;
     }

@@ -34,11 +34,23 @@ void writeF32(std::ostream& out, float v) {
   std::memcpy(&u, &v, sizeof u);
   put(out, u);
 }
+void writeF64(std::ostream& out, double v) {
+  std::uint64_t u;
+  std::memcpy(&u, &v, sizeof u);
+  put(out, u);
+}
 std::uint32_t readU32(std::istream& in) { return get<std::uint32_t>(in); }
 std::uint64_t readU64(std::istream& in) { return get<std::uint64_t>(in); }
 float readF32(std::istream& in) {
   std::uint32_t u = get<std::uint32_t>(in);
   float v;
+  std::memcpy(&v, &u, sizeof v);
+  return v;
+}
+
+double readF64(std::istream& in) {
+  std::uint64_t u = get<std::uint64_t>(in);
+  double v;
   std::memcpy(&v, &u, sizeof v);
   return v;
 }

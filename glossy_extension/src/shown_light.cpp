@@ -134,8 +134,7 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
     orthonormalBasis(wi, u, v);
     double weights = 0.0, lit = 0.0;
     for (int j = 0; j < kDiskPoints; ++j) {
-      const double rho = r * std::sqrt((j + 0.5) / kDiskPoints), phi = 2.399963229728653 * j;
-      const Vec3 dj = glm::normalize(wi + rho * (std::cos(phi) * u + std::sin(phi) * v));
+      const Vec3 dj = glm::normalize(wi + sunflowerPoint(u, v, r, j, kDiskPoints));
       const double c = glm::dot(n, dj);
       if (!(c > 0.0)) continue;
       weights += c;

@@ -63,8 +63,9 @@ class HaarDistribution {
     return {v[0], v[1], v[2]};
   }
 
-  /// The node whose cell holds direction d (the leaf eval() reads) and, if asked, that cell.
-  std::uint32_t locate(const Vec3& d, FaceTri* cell = nullptr) const;
+  /// The node whose cell holds direction d (the leaf eval() reads) and, if asked, that cell, its level
+  /// and its number at that level (face * 4^level + the base-4 path, as cell_rules.h numbers cells).
+  std::uint32_t locate(const Vec3& d, FaceTri* cell = nullptr, int* level = nullptr, std::uint64_t* index = nullptr) const;
 
   /// A copy cut at maxLevel: a cut cell keeps its exact mean, so the power is unchanged; four equal
   /// leaves fold into their parent (exact, and it drops the zero faces below a local horizon).

@@ -28,6 +28,14 @@ inline void orthonormalBasis(const Vec3& w, Vec3& u, Vec3& v) {
   v = glm::cross(w, u);
 }
 
+/// Point j of count on a sunflower over the disk of radius r spanned by unit u and v: each the
+/// centre of an equal share of the disk's area (radius r sqrt((j + 1/2) / count), turned by the
+/// golden angle per point). Spreads a sender's disk into directions (reflection.cpp, shown_light.cpp).
+inline Vec3 sunflowerPoint(const Vec3& u, const Vec3& v, double r, int j, int count) {
+  const double rho = r * std::sqrt((j + 0.5) / count), phi = 2.399963229728653 * j;
+  return rho * (std::cos(phi) * u + std::sin(phi) * v);
+}
+
 /// Barycentric coordinates of a point inside a triangle of the 1->4 hierarchy.
 struct Bary {
   double b0, b1, b2;
