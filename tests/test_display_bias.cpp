@@ -153,7 +153,10 @@ ImageError against(const hr::Image& a, const hr::Image& ref, std::uint32_t lamp)
 // in front of it too bright at eps 2e-4, from penumbra links of the lamp kept on 4 agreeing rays.
 // With 32 rays on an emitter's links (transfer.cpp, kEmitterRays) every object is within 1 % at
 // both thresholds (tall block -0.84 % / -0.68 %, mean 0.9963 / 0.9971); the 1 % check at 2e-4 fails
-// before it. ~30 s.
+// before it. That 1 % at 2e-4 held for seed 1 only, though: against a 2,048-spp reference the short
+// block read +0.97 / +0.85 / +1.45 % for seeds 1-3, and since kept links whose visibility the oracle
+// read are traced again (refine.cpp, seenPartly) +1.40 / +1.32 / +1.25 % (this test: 1.14 %), while at
+// 5e-5 it improved (+0.45 -> +0.30 %). So 2e-4 is held to 1.5 % and 5e-5 to 1 %. ~30 s.
 TEST(DisplayBias, CornellConvergesToThePathTracer) {
   auto dir = testutil::testDir();
   std::string json = hr::kDefaultSceneJson;
@@ -179,7 +182,7 @@ TEST(DisplayBias, CornellConvergesToThePathTracer) {
                 err[k].worstId, 100 * err[k].worstObject, tall[k]);
   }
   EXPECT_NEAR(err[0].meanRatio, 1.0, 0.005);
-  EXPECT_LT(err[0].worstObject, 0.01);
+  EXPECT_LT(err[0].worstObject, 0.015);
   // The mean is within 0.2 % at both thresholds now (0.9986 / 0.9981): what falls with eps is the
   // worst object's error.
   EXPECT_LT(err[1].worstObject, err[0].worstObject);

@@ -202,6 +202,49 @@ double imbalance(const testutil::Solved& r) {
   return (r.stats.emittedW.y - r.stats.absorbedW.y - r.stats.escapedW.y) / r.stats.emittedW.y;
 }
 
+/// A closed unit room (albedo rho) with a lamp 1 cm under its ceiling and two blocks on its floor;
+/// `farBox`: and an empty closed box 10 m away.
+std::string roomWithTwoBlocks(double rho, bool farBox) {
+  const std::string r = std::to_string(rho);
+  return R"({ "materials": { "w": { "diffuse": [)" + r + "," + r + "," + r + R"(] }, "e": { "emission": [5,5,5] } },
+    "objects": [
+      { "type": "box", "material": "w", "min": [0,0,0], "max": [1,1,1], "facing": "inward" },
+      { "type": "quad", "material": "e", "vertices": [[0.4,0.99,0.4],[0.6,0.99,0.4],[0.6,0.99,0.6],[0.4,0.99,0.6]] },
+      { "type": "box", "material": "w", "min": [0.3,0,0.3], "max": [0.5,0.4,0.5] },
+      { "type": "box", "material": "w", "min": [0.6,0,0.6], "max": [0.8,0.2,0.8] })" +
+         std::string(farBox ? R"(,
+      { "type": "box", "material": "w", "min": [10,0,0], "max": [11,1,1], "facing": "inward" })" : "") + " ] }";
+}
+
+// A closed room of albedo 0.9 with a lamp under its ceiling and two blocks on its floor, at a coarse
+// eps 1e-3: light bounces about ten times, so a bias of the links' transfer shows tenfold. The
+// oracle used to choose a partly visible inner sender's budget by the very rays that set the link's
+// coefficient: links whose four rays all happened to get through were kept (their light
+// overstated) and the others split, and the room made 7.6-9.6 % of its light by shooting one patch
+// a pass, 1.8-4.5 % by the default shooting and 1.2-1.4 % by gathering (seeds 1-4). Now such a
+// kept link is traced again (refine.cpp, seenPartly): within 2.3 % for every scheme and seed.
+TEST(Shooting, ABrightRoomNeitherMakesNorLosesLight) {
+  const std::string json = roomWithTwoBlocks(0.9, false);
+  for (std::uint64_t seed : {1, 2}) {
+    hr::SolverOptions o = testutil::options(1e-3, 5);
+    o.tolerance = 1e-4;
+    o.maxIterations = 4000;
+    o.seed = seed;
+    auto g = testutil::solveText(json, o);
+    ASSERT_TRUE(g.stats.converged);
+    std::printf("bright room, seed %llu: gather %+.4f", static_cast<unsigned long long>(seed), imbalance(g));
+    EXPECT_LT(std::abs(imbalance(g)), 0.03) << "gather, seed " << seed;
+    for (double fraction : {1.0, hr::SolverOptions{}.shootFraction}) {
+      o.shootFraction = fraction;
+      auto s = testutil::solveText(json, shooting(o));
+      ASSERT_TRUE(s.stats.converged) << "fraction " << fraction;
+      std::printf(", shoot (fraction %.1f) %+.4f", fraction, imbalance(s));
+      EXPECT_LT(std::abs(imbalance(s)), 0.03) << "shoot fraction " << fraction << ", seed " << seed;
+    }
+    std::printf("\n");
+  }
+}
+
 // A closed room with a lamp and two blocks, and an empty closed box 10 m away. The cluster tree splits
 // patches at the median, so the room's wall at x = 1 shares clusters with the far box; a shooter's
 // single link to the root cluster is refined down through them. A wall or floor linked to such a
@@ -213,13 +256,7 @@ double imbalance(const testutil::Solved& r) {
 // 2.4 %) is the two schemes' own discretisation difference at this coarse threshold (the Cornell box
 // test above: 0.9 % at 2e-4).
 TEST(Shooting, ASecondEnclosureLosesNoLight) {
-  const std::string json = R"({ "materials": { "w": { "diffuse": [0.6,0.6,0.6] }, "e": { "emission": [5,5,5] } },
-    "objects": [
-      { "type": "box", "material": "w", "min": [0,0,0], "max": [1,1,1], "facing": "inward" },
-      { "type": "quad", "material": "e", "vertices": [[0.4,0.99,0.4],[0.6,0.99,0.4],[0.6,0.99,0.6],[0.4,0.99,0.6]] },
-      { "type": "box", "material": "w", "min": [0.3,0,0.3], "max": [0.5,0.4,0.5] },
-      { "type": "box", "material": "w", "min": [0.6,0,0.6], "max": [0.8,0.2,0.8] },
-      { "type": "box", "material": "w", "min": [10,0,0], "max": [11,1,1], "facing": "inward" } ] })";
+  const std::string json = roomWithTwoBlocks(0.6, true);
   hr::SolverOptions o = testutil::options(1e-3, 5);
   o.tolerance = 1e-4;
   o.maxIterations = 2000;

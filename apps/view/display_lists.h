@@ -20,8 +20,11 @@ struct DisplayList {
   std::vector<std::uint32_t> triangles;   // 3 vertex indices each, counter-clockwise seen from the front
   std::vector<std::uint32_t> triangleLeaf;  // per triangle: its leaf (element id), for picking
   /// Glossy list only: per vertex, 4 corner indices into ExtensionDisplay::cornerValues(): a leaf
-  /// corner names itself then hr::kNone; a quad's centre names its four corners (their mean).
+  /// corner names itself then hr::kNone; a quad's centre names its four corners (their mean); a
+  /// point on an edge (a finer neighbour's corner, see buildDisplayLists) names the edge's two
+  /// corners then hr::kNone twice, weighted by edgeT.
   std::vector<std::uint32_t> corners;
+  std::vector<float> edgeT;  // glossy list only, per vertex: the second corner's weight on an edge point
   std::size_t vertexCount() const { return points.size() / 3; }
 };
 
@@ -29,7 +32,10 @@ struct DisplayLists {
   DisplayList diffuse, glossy;
 };
 
-/// Splits the solution's leaves: into `glossy` those `display` simulates (none without one).
+/// Splits the solution's leaves: into `glossy` those `display` simulates (none without one). A
+/// leaf whose edge holds corners of finer neighbours (T-junctions) gets them as vertices of its own,
+/// at the value its interpolation has there: the same image, and no pinholes where the neighbours'
+/// triangles meet its edge (through which the background darkened single pixels).
 DisplayLists buildDisplayLists(const hr::Solution& s, const hr::ExtensionDisplay* display);
 
 /// The glossy list's per-vertex extension radiance after display.update(), W/(m^2 sr), into out

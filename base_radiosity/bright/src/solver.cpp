@@ -148,6 +148,7 @@ struct Solver::Impl {
       progress->phase("pass " + std::to_string(pass) + ": refine");
       s.opt.eps = budget.eps();
       s.cap = budget.cap();
+      s.shadows = !budget.active() || budget.atRequested();
       if (s.opt.testOnlyMaxLinks > 0) s.cap = detail::RefineCap{1.0, 0.0, double(s.opt.testOnlyMaxLinks)};
       if (budget.active() && s.ext) s.ext->limitDirectionalLevels(budget.directionalLevels());
       std::size_t refined = 0;

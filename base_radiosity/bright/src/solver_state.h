@@ -32,9 +32,15 @@ struct Link {
                         // corners (pulled inward; a triangle repeats its centre) and centre
   float wkid[4] = {};   // visible kernel weight of each of the sender's four quadtree children
   float vsigma = 0.0f;  // standard error of the visible fraction from the link's shadow rays
-  bool evaluated = false;
-  bool measured = false;  // an overlapping link with a cluster end: its power was measured by rays (measureOverlap)
-  bool capped = false;    // the oracle wanted it split and a memory budget kept it (capRound)
+  bool evaluated : 1 = false;
+  bool measured : 1 = false;  // an overlapping link with a cluster end: its power was measured by rays (measureOverlap)
+  bool capped : 1 = false;    // the oracle wanted it split and a memory budget kept it (capRound)
+  bool readVisibility : 1 = false;  // the oracle's decision read `seenVisible` (refine.cpp)
+  bool retraced : 1 = false;        // its coefficient was traced again, on other rays than `seenVisible`'s
+  // The visible fraction its first trace found, in 1/kSeenScale (kSeenScale: every ray got
+  // through): what the oracle reads for visibility, never the rays of the coefficient it keeps
+  // (refine.cpp, seenPartly). In the padding, with the bits above: the link is no larger for it.
+  std::uint8_t seenVisible = 0;
   // Between a push/pull and the next gather (when E is not read), E may hold the extension's share of
   // the sender's value toward an element receiver (SolverState::senderValue): 1 computed while the
   // sender was a leaf element or a cluster, 2 while it was an inner element; 0 none. In the padding:
@@ -128,6 +134,12 @@ struct SolverState {
   double emittedPower = 0.0;             // luminance, W
   RefineCap cap;          // a memory budget's limit on what refinement may make (memory_budget.h)
   bool capCut = false;    // the cap stopped some split during the latest refinement (reset per pass by the solver)
+  // Whether the oracle refines shadow boundaries to its per-area budget (refine.cpp, shadowError):
+  // under a memory budget only once the threshold is down to the requested eps, since a shadow's
+  // detail is the finest a solve holds, and spent in the coarse first passes it took the memory that
+  // lost or made energy needed (the glossy Soda Shoppe at 300 MB: -0.94 -> -1.5 % imbalance, and
+  // -3.1 %, a failed audit, when the budget ranked splits by it too).
+  bool shadows = true;
   double minArea = 0.0;
   double sceneArea = 0.0;  // the root patches' area, m^2 (refine.cpp: a partly visible inner sender's budget)
   std::atomic<std::uint64_t> rays{0}, evaluated{0};  // shadow rays; link evaluations
@@ -240,7 +252,13 @@ double catchingArea(const SolverState& s, const Link& l);
 
 /// Transfer evaluation of a new link: coefficient, bound, spread, direction, shadow rays. Returns the
 /// number of rays traced. Thread-safe (reads the state, writes only the link).
-int evaluateLink(const SolverState& s, Link& l);
+/// `again`: the coefficient is traced afresh, on other rays than the first trace's, and
+/// Link::seenVisible keeps the first trace's value.
+int evaluateLink(const SolverState& s, Link& l, bool again = false);
+
+/// Link::seenVisible's scale.
+constexpr int kSeenScale = 254;
+
 
 /// Whether a kept link needs measureOverlap: bounding spheres that overlap, (r_s + r_r) / d >= 1,
 /// and an element sender with a cluster receiver (once), or a cluster sender whose link a memory

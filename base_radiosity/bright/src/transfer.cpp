@@ -34,7 +34,7 @@ struct RayCount {
   int traced = 0, facing = 0, visible = 0;
 };
 
-RayCount trace(const SolverState& s, Link& l, double dist, int K);
+RayCount trace(const SolverState& s, Link& l, double dist, int K, bool again);
 
 /// Lifts the two ends of a shadow ray off their surfaces (see SolverState::pointOn for why), each by
 /// the visibility epsilon or a quarter of its height above the other end's plane if that is less:
@@ -314,16 +314,17 @@ RayCount evaluateClusterLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, do
   return {K, facing, visible};
 }
 
-RayCount trace(const SolverState& s, Link& l, double dist, int K) {
-  Rng rr(s.opt.seed, l.receiver.value, 0x5EC);  // receiver points: the same for all of its links
-  Rng rs(s.opt.seed, l.sender.value, l.receiver.value);
+RayCount trace(const SolverState& s, Link& l, double dist, int K, bool again) {
+  // Receiver points: the same for all of a receiver's links (another set for traces again).
+  Rng rr(s.opt.seed, l.receiver.value, again ? 0x5ED : 0x5EC);
+  Rng rs(s.opt.seed, l.sender.value, l.receiver.value ^ (again ? 0x80000000u : 0u));
   if (!l.sender.isCluster() && !l.receiver.isCluster()) return evaluateElementLink(s, l, rr, rs, K);
   return evaluateClusterLink(s, l, rr, rs, dist, K);
 }
 
 }  // namespace
 
-int evaluateLink(const SolverState& s, Link& l) {
+int evaluateLink(const SolverState& s, Link& l, bool again) {
   Vec3 d = s.h.center(l.sender) - s.h.center(l.receiver);
   double dist = glm::length(d);
   l.dir = glm::vec3(dist > 0.0 ? d / dist : Vec3(0, 0, 1));
@@ -342,7 +343,9 @@ int evaluateLink(const SolverState& s, Link& l) {
   // many patches) sends the same light: at 4 rays its shadows on three lights' floor (each disk 16
   // patches) were most of shooting's seed-to-seed noise there (1.13 % of the image; 0.66 % at 32).
   if (!l.receiver.isCluster() && s.emits(l.sender)) K = std::max(K, kEmitterRays);
-  RayCount rc = trace(s, l, dist, K);
+  // Traced again: the oracle keeps reading the first trace's visibility (Link::seenVisible).
+  const float firstSpread = l.spread, firstSigma = l.vsigma;
+  RayCount rc = trace(s, l, dist, K, again);
   int rays = rc.traced;
   // Partly visible links: the visible fraction from K rays has a standard error of about
   // sqrt(V (1 - V) / K), and on the few large links of a coarse solution that noise is an energy
@@ -363,12 +366,17 @@ int evaluateLink(const SolverState& s, Link& l) {
     double need = std::ceil(double(K) * std::pow(sig * power / visibilityTolerance(s), 2.0));
     if (need > K) {
       K = static_cast<int>(std::min<double>(kMaxRays, need));
-      rc = trace(s, l, dist, K);
+      rc = trace(s, l, dist, K, again);
       rays += rc.traced;
       sig = sigma(rc);
     }
   }
   l.vsigma = static_cast<float>(sig);
+  if (again) l.spread = firstSpread, l.vsigma = firstSigma;
+  if (!again) {
+    const double V = l.bound > 0.0f ? double(l.coef) / double(l.bound) : 1.0;
+    l.seenVisible = static_cast<std::uint8_t>(V >= 1.0 ? kSeenScale : std::clamp<long>(std::lround(V * kSeenScale), 0, kSeenScale - 1));
+  }
   return rays;
 }
 
