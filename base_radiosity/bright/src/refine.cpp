@@ -205,7 +205,7 @@ double partlyVisibleBudget(const SolverState& s, const Link& l, double powerThre
 /// chose to keep it: a budget chosen by those very rays kept the links whose four rays all happened
 /// to get through (their light overstated) and split the others, and a closed room of albedo 0.9
 /// with two blocks made 8.6 % of its light by shooting and 1.2 % by gathering (mean of seeds 1-4;
-/// Shooting.ABrightRoomKeepsItsEnergy, docs/solver.md).
+/// Shooting.ABrightRoomNeitherMakesNorLosesLight, docs/solver.md).
 bool seenPartly(Link& l) {
   l.readVisibility = true;
   return l.seenVisible < kSeenScale;
