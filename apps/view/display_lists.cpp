@@ -98,9 +98,7 @@ DisplayLists buildDisplayLists(const hr::Solution& s, const hr::ExtensionDisplay
     hr::Rgb mean(0.0);
     for (int k = 0; k < e.poly.n; ++k) mean += B[k];
     mean /= double(e.poly.n);
-    std::array<std::uint32_t, 4> all = {c0, c0 + 1, c0 + 2, e.poly.n == 4 ? c0 + 3 : c0 + 2};
-    if (glossy && e.poly.n == 3) all = {c0, c0 + 1, c0 + 2, hr::kNone};
-    addVertex(l, e.poly.centroid(), mean / hr::kPi, all, glossy);
+    addVertex(l, e.poly.centroid(), mean / hr::kPi, {c0, c0 + 1, c0 + 2, e.poly.n == 4 ? c0 + 3 : hr::kNone}, glossy);
     const std::uint32_t centre = first + count;
     for (std::uint32_t k = 0; k < count; ++k) addTriangle(l, l.points.data(), first + k, first + (k + 1) % count, centre, n, i);
   }

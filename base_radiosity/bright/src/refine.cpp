@@ -196,8 +196,14 @@ bool sharesBudget(const SolverState& s, const Link& l) {
   return !l.sender.isCluster() && !l.receiver.isCluster() && !s.h.element(l.sender.index()).leaf();
 }
 
+/// A threshold held per area: scaled by the receiver's share of the scene's area, at least `floor`
+/// of it (the partly visible budget and the shadow term).
+double perArea(const SolverState& s, const Link& l, double threshold, double floor) {
+  return threshold * std::max(floor, s.h.area(l.receiver) / std::max(s.sceneArea, 1e-300));
+}
+
 double partlyVisibleBudget(const SolverState& s, const Link& l, double powerThreshold) {
-  return powerThreshold * std::max(kPartlyVisibleFloor, s.h.area(l.receiver) / std::max(s.sceneArea, 1e-300));
+  return perArea(s, l, powerThreshold, kPartlyVisibleFloor);
 }
 
 /// Whether part of a link is hidden, as its first trace saw it. A decision that reads this has the
@@ -231,7 +237,7 @@ constexpr double kShadowFloor = 1.0 / 1024.0;
 /// smaller of its lit and its hidden part (2 min(V, 1 - V) of the unoccluded power), as the
 /// VISION-like host counts it. Held to the threshold scaled by the receiver's share of the scene's
 /// area (at least kShadowFloor), as that host holds it: by power alone a floor element of 1/600 of
-/// the scene kept a sphere's shadow on floor_gloss blurred at any eps (0.261 of the image, 0.118
+/// the scene kept a sphere's shadow on floor_gloss blurred at any eps (0.261 of the image, 0.120
 /// with this term). V is the first trace's (seenPartly). Leaf senders only: from inner senders too
 /// it took 2-3 times the links (the Cornell box 0.19 -> 0.51 M) for no measured gain.
 double shadowError(const SolverState& s, Link& l, const SenderLuminance& value, double threshold, double* limit) {
@@ -239,7 +245,7 @@ double shadowError(const SolverState& s, Link& l, const SenderLuminance& value, 
   if (!s.shadows || l.receiver.isCluster() || l.sender.isCluster() || !s.h.element(l.sender.index()).leaf() ||
       !(l.bound > 0.0f))
     return 0.0;
-  *limit = threshold * std::max(kShadowFloor, s.h.area(l.receiver) / std::max(s.sceneArea, 1e-300));
+  *limit = perArea(s, l, threshold, kShadowFloor);
   const double unoccluded = catchingArea(s, l) * value() * double(l.bound);
   if (unoccluded <= *limit) return 0.0;  // no shadow across it could matter
   l.readVisibility = true;
@@ -585,16 +591,6 @@ std::size_t refineLinks(SolverState& s) {
   // A kept link whose element sender overlaps its receiver cluster is one the far-field model cannot
   // carry (powerError let it stay because all its sender sends is under the threshold): it carries
   // what rays measure instead. Measured once, after the decisions, so only kept links pay the rays.
-  {
-    PhaseTimer t(s.clkVisibility);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept.size(), 256), [&](const auto& r) {
-      s.clkVisibility.sawThread();
-      std::uint64_t n = 0;
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-        if (needsMeasure(kept[i])) n += std::uint64_t(measureOverlap(s, kept[i]));
-      s.rays += n;
-    });
-  }
   // A kept link whose visibility the oracle read is traced again: its coefficient must not come from
   // the rays that chose to keep it (seenPartly). Once per link: later passes read the first trace.
   {
@@ -602,8 +598,11 @@ std::size_t refineLinks(SolverState& s) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept.size(), 64), [&](const auto& r) {
       s.clkVisibility.sawThread();
       std::uint64_t n = 0;
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-        if (Link& l = kept[i]; l.readVisibility && !l.retraced) n += std::uint64_t(evaluateLink(s, l, true)), l.retraced = true;
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        Link& l = kept[i];
+        if (needsMeasure(l)) n += std::uint64_t(measureOverlap(s, l));
+        if (l.readVisibility && !l.retraced) n += std::uint64_t(evaluateLink(s, l, true)), l.retraced = true;
+      }
       s.rays += n;
     });
   }

@@ -259,7 +259,6 @@ int evaluateLink(const SolverState& s, Link& l, bool again = false);
 /// Link::seenVisible's scale.
 constexpr int kSeenScale = 254;
 
-
 /// Whether a kept link needs measureOverlap: bounding spheres that overlap, (r_s + r_r) / d >= 1,
 /// and an element sender with a cluster receiver (once), or a cluster sender whose link a memory
 /// budget kept against the oracle (at every refinement pass, as what its patches send changes; the

@@ -372,8 +372,9 @@ int evaluateLink(const SolverState& s, Link& l, bool again) {
     }
   }
   l.vsigma = static_cast<float>(sig);
-  if (again) l.spread = firstSpread, l.vsigma = firstSigma;
-  if (!again) {
+  if (again) {
+    l.spread = firstSpread, l.vsigma = firstSigma;
+  } else {
     const double V = l.bound > 0.0f ? double(l.coef) / double(l.bound) : 1.0;
     l.seenVisible = static_cast<std::uint8_t>(V >= 1.0 ? kSeenScale : std::clamp<long>(std::lround(V * kSeenScale), 0, kSeenScale - 1));
   }
