@@ -3,7 +3,10 @@
 #include <hr/output.h>
 #include <hr/solver.h>
 
+#include <hr/solution.h>
+
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -22,6 +25,52 @@ inline std::string furnace(double rho) {
   const std::string r = std::to_string(rho);
   return R"({ "materials": { "g": { "diffuse": [)" + r + "," + r + "," + r + R"(], "emission": [1,1,1] } },
   "objects": [ { "type": "box", "material": "g", "min": [0,0,0], "max": [1,1,1], "facing": "inward" } ] })";
+}
+
+/// A 4 x 4 m floor (rho 0.5) lit by a 10 cm square lamp (L_e = 20) 0.5 m above it, facing down, and
+/// nothing else: an open scene whose floor radiance is rho L_e F, F the point-to-polygon form factor
+/// (lampOverFloorRadiance). The camera sees the floor obliquely, the lamp's dark back in it.
+inline const char* kLampOverFloor = R"({
+  "materials": { "floor": { "diffuse": [0.5,0.5,0.5] }, "lamp": { "diffuse": [0,0,0], "emission": [20,20,20] } },
+  "objects": [
+    { "type": "quad", "material": "floor", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]] },
+    { "type": "quad", "material": "lamp", "vertices": [[-0.05,0.5,-0.05],[0.05,0.5,-0.05],[0.05,0.5,0.05],[-0.05,0.5,0.05]] } ],
+  "cameras": [ { "name": "top", "eye": [0, 3.2, 2.2], "look_at": [0, 0, 0.3], "up": [0, 1, 0], "fov_y_deg": 60,
+                 "width": 160, "height": 120 } ] })";
+
+/// kLampOverFloor's floor radiance at x, W/(m^2 sr), in closed form (Lambert's formula, written out
+/// here rather than taken from the core's kernel: F = 1/(2 pi) times the sum over the lamp's edges
+/// of the angle each subtends times the cosine between its plane and the floor's normal).
+inline double lampOverFloorRadiance(const hr::Vec3& x) {
+  const hr::Vec3 lamp[4] = {{-0.05, 0.5, -0.05}, {0.05, 0.5, -0.05}, {0.05, 0.5, 0.05}, {-0.05, 0.5, 0.05}};
+  double f = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const hr::Vec3 a = glm::normalize(lamp[i] - x), b = glm::normalize(lamp[(i + 1) % 4] - x), c = glm::cross(a, b);
+    const double s = glm::length(c);
+    if (s > 0.0) f += std::atan2(s, glm::dot(a, b)) * c.y / s;
+  }
+  return 0.5 * 20.0 * std::abs(f) / (2.0 * hr::kPi);
+}
+
+/// Relative RMSE (luminance = any channel: grey) of a solution's image of kLampOverFloor's floor
+/// against the closed form, over the floor's pixels: its smooth display or (flat) each leaf's own value.
+inline double lampOverFloorError(const hr::Solution& sol, bool flat) {
+  const hr::Camera& cam = sol.cameras.at(0);
+  const hr::Image img = flat ? hr::render(sol, cam, [&](std::uint32_t leaf, const hr::Vec3&, const hr::Vec3&) {
+    return sol.elements[leaf].radiosity / hr::kPi;
+  })
+                             : hr::render(sol, cam);
+  const hr::Image exact = hr::render(sol, cam, [&](std::uint32_t, const hr::Vec3& x, const hr::Vec3&) {
+    return hr::Rgb(lampOverFloorRadiance(x));
+  });
+  double se = 0.0, sum = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < img.objectId.size(); ++i) {
+    if (img.objectId[i] != 0) continue;  // the floor's pixels
+    const double d = img.rgb[3 * i] - exact.rgb[3 * i];
+    se += d * d, sum += exact.rgb[3 * i], ++n;
+  }
+  return n > 0 ? std::sqrt(se / n) / (sum / n) : 1e300;
 }
 
 struct Solved {

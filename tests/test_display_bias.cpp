@@ -195,55 +195,15 @@ TEST(DisplayBias, CornellConvergesToThePathTracer) {
 
 namespace {
 
-/// Radiance a Lambertian point of normal n at p gets from a uniform polygon lamp of radiance L and
-/// reflects with albedo rho: rho L F, F the point-to-polygon form factor in closed form (Lambert's
-/// formula: F = 1/(2 pi) sum of each edge's angle times the cosine of its plane to n).
-double lambertRadiance(const hr::Vec3& p, const hr::Vec3& n, const std::vector<hr::Vec3>& lamp, double rho, double L) {
-  double f = 0.0;
-  for (std::size_t i = 0; i < lamp.size(); ++i) {
-    const hr::Vec3 a = glm::normalize(lamp[i] - p), b = glm::normalize(lamp[(i + 1) % lamp.size()] - p);
-    const hr::Vec3 c = glm::cross(a, b);
-    const double s = glm::length(c);
-    if (s > 0.0) f += std::atan2(s, glm::dot(a, b)) * glm::dot(n, c) / s;
-  }
-  return rho * L * std::abs(f) / (2.0 * hr::kPi);
-}
-
-// A floor lit by a small lamp 0.5 m above it, nothing else (an open scene: the floor's radiance is
-// the closed form above). Its falloff, h^2 / r^4 in the small-lamp limit, is convex over most of the
-// floor, where corners averaged from leaf means drew it too bright (the leaf's chord above its
-// curve, twice) and the image's error was a few leaves' width squared times the curvature: rel.
-// RMSE 0.0445 against the closed form; with the corners moved toward each leaf's mean (reconstruct,
-// kMeanPasses) 0.0090. The flat render (each leaf its own radiosity) reads 0.0717 at eps 2e-4.
+// A floor lit by a small lamp 0.5 m above it (testutil::kLampOverFloor: the closed form). Its falloff,
+// h^2 / r^4 in the small-lamp limit, is convex over most of the floor, where corners averaged from
+// leaf means drew it too bright (the leaf's chord above its curve, twice) and the image's error was a
+// few leaves' width squared times the curvature: rel. RMSE 0.0445 against the closed form; with the
+// corners moved toward each leaf's mean (reconstruct, kMeanPasses) 0.0090. The flat render (each leaf
+// its own radiosity) reads 0.0717 at eps 2e-4.
 TEST(DisplayBias, AConvexFalloffIsDrawnAtItsMean) {
-  const char* json = R"({
-  "materials": { "floor": { "diffuse": [0.5,0.5,0.5] }, "lamp": { "diffuse": [0,0,0], "emission": [20,20,20] } },
-  "objects": [
-    { "type": "quad", "material": "floor", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]] },
-    { "type": "quad", "material": "lamp", "vertices": [[-0.05,0.5,-0.05],[0.05,0.5,-0.05],[0.05,0.5,0.05],[-0.05,0.5,0.05]] } ],
-  "cameras": [ { "name": "top", "eye": [0, 3.2, 2.2], "look_at": [0, 0, 0.3], "up": [0, 1, 0], "fov_y_deg": 60,
-                 "width": 160, "height": 120 } ] })";
-  hr::Solution sol = solveToSolution(json, 2e-4);
-  const std::vector<hr::Vec3> lamp{{-0.05, 0.5, -0.05}, {0.05, 0.5, -0.05}, {0.05, 0.5, 0.05}, {-0.05, 0.5, 0.05}};
-  const hr::Camera& cam = sol.cameras.at(0);
-  const hr::Image smooth = hr::render(sol, cam);
-  const hr::Image flat = hr::render(sol, cam, [&](std::uint32_t leaf, const hr::Vec3&, const hr::Vec3&) {
-    return sol.elements[leaf].radiosity / hr::kPi;
-  });
-  const hr::Image exact = hr::render(sol, cam, [&](std::uint32_t, const hr::Vec3& x, const hr::Vec3&) {
-    return hr::Rgb(lambertRadiance(x, hr::Vec3(0, 1, 0), lamp, 0.5, 20.0));
-  });
-  auto relRmse = [&](const hr::Image& a) {
-    double se = 0.0, sum = 0.0;
-    int n = 0;
-    for (std::size_t i = 0; i < a.objectId.size(); ++i) {
-      if (a.objectId[i] != 0) continue;  // the floor's pixels
-      const double d = a.rgb[3 * i] - exact.rgb[3 * i];
-      se += d * d, sum += exact.rgb[3 * i], ++n;
-    }
-    return std::sqrt(se / n) / (sum / n);
-  };
-  const double eSmooth = relRmse(smooth), eFlat = relRmse(flat);
+  hr::Solution sol = solveToSolution(testutil::kLampOverFloor, 2e-4);
+  const double eSmooth = testutil::lampOverFloorError(sol, false), eFlat = testutil::lampOverFloorError(sol, true);
   std::printf("floor against the closed form: smooth %.4f, flat %.4f\n", eSmooth, eFlat);
   EXPECT_LT(eSmooth, 0.5 * eFlat);
   EXPECT_LT(eSmooth, 0.02);

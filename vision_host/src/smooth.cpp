@@ -10,6 +10,8 @@
 // reason that stops at the block's edge).
 #include "smooth.h"
 
+#include <hr/solution.h>
+
 #include <cmath>
 #include <map>
 #include <unordered_map>
@@ -47,6 +49,23 @@ class SurfaceSmoother {
   void run() {
     for (std::uint32_t i : mine_)
       for (int k = 0; k < 4; ++k) value(i, k);
+    // The mean passes of hr::reconstruct: each corner-to-corner vertex moves by its leaves' mean
+    // shortfall (a leaf's radiosity less the mean of its bilinear corners), within their range; a
+    // T-junction follows the larger leaf's edge as before.
+    for (std::uint32_t n = 0; n < mine_.size(); ++n) pos_[mine_[n]] = n;
+    shortfall_.resize(mine_.size());
+    prev_.resize(mine_.size());
+    for (int pass = 0; pass < hr::kMeanPasses; ++pass) {
+      for (std::uint32_t n = 0; n < mine_.size(); ++n) {
+        const LeafCorners& c = out_[mine_[n]];
+        prev_[n] = c;
+        shortfall_[n] = all_[mine_[n]]->B - 0.25 * (c[0] + c[1] + c[2] + c[3]);
+      }
+      done_.clear();
+      correcting_ = true;
+      for (std::uint32_t i : mine_)
+        for (int k = 0; k < 4; ++k) value(i, k);
+    }
   }
 
  private:
@@ -106,13 +125,19 @@ class SurfaceSmoother {
       result = (1.0 - t) * a + t * b;
     } else {
       double w = 0.0;
+      Rgb lo(1e300), hi(-1e300);
       for (const Ref& r : at_.find(key(p))->second) {
         if (!near(corner(r.leaf, r.corner), p)) continue;  // hash collision
         if (hidden_[r.leaf] && !hidden_[i]) continue;
         const double a = all_[r.leaf]->g.area;
-        result += a * all_[r.leaf]->B, w += a;
+        const Rgb& B = all_[r.leaf]->B;
+        result += a * (correcting_ ? shortfall_[pos_.at(r.leaf)] : B), w += a;
+        lo = glm::min(lo, B), hi = glm::max(hi, B);
       }
-      result = w > 0.0 ? result / w : all_[i]->B;
+      if (correcting_)
+        result = w > 0.0 ? glm::clamp(prev_[pos_.at(i)][k] + result / w, lo, hi) : prev_[pos_.at(i)][k];
+      else
+        result = w > 0.0 ? result / w : all_[i]->B;
     }
     out_[i][k] = result;
     done_.insert(slot);
@@ -129,6 +154,10 @@ class SurfaceSmoother {
   std::unordered_map<std::uint64_t, std::vector<Ref>> at_;
   std::map<double, std::vector<Edge>> alongU_, alongV_;  // edges at constant v (along u), at constant u
   std::unordered_set<std::uint64_t> done_;
+  bool correcting_ = false;                           // a mean pass: vertices move by their leaves' shortfall
+  std::unordered_map<std::uint32_t, std::uint32_t> pos_;  // leaf -> its place in mine_
+  std::vector<Rgb> shortfall_;                         // per place in mine_
+  std::vector<LeafCorners> prev_;                      // per place in mine_: the last pass's corners
 };
 
 }  // namespace

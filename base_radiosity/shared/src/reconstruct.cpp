@@ -42,11 +42,6 @@ std::vector<char> hiddenLeaves(const Solution& s) {
   return hidden;
 }
 
-/// Passes that move corners toward drawing each leaf's mean (reconstruct): on the Cornell box at eps
-/// 2e-4 the image's rel. RMSE against the path tracer went 0.053 -> 0.043 / 0.041 with 1 / 2 passes
-/// and 0.041 with 4.
-constexpr int kMeanPasses = 2;
-
 /// The mean over a leaf of what interpolateCorners draws from corner values cv.
 Rgb drawnMean(const Solution& s, std::uint32_t leaf, const std::array<Rgb, 4>& cv) {
   const auto& e = s.elements[leaf];
