@@ -98,6 +98,7 @@ class Adapter final : public hr::Extension {
       if (cellLeaf[i] >= H_) throw std::logic_error("display cells: a cell names no leaf of the host");
       cellNormal_[i] = cells.info(hr::NodeId{i}).normal;
     }
+    cellShare_ = areaShares(cells, cellLeaf_, H_);
     // The leaves the extension may hold light for (the ones it saves): the file says how it saw them.
     shown_.clear();
     for (std::uint32_t l = 0; l < H_; ++l) {
@@ -118,7 +119,10 @@ class Adapter final : public hr::Extension {
   std::size_t heldBytes() const override { return in_->heldBytes(); }
   void attach(const hr::HostView& v) override { in_->attach(v); }
   void split(hr::NodeId p, std::span<const hr::NodeId> c) override { in_->split(p, c); }
-  hr::Rgb intensity(hr::NodeId n, const hr::Vec3& d) const override { return in_->intensity(n, d); }
+  // Also read of a loaded solution's cells (inspect's lobe): a cell's share of its leaf's.
+  hr::Rgb intensity(hr::NodeId n, const hr::Vec3& d) const override {
+    return isCell(n) ? cellShare_[n.index()] * in_->intensity(leafOf(n), d) : in_->intensity(n, d);
+  }
   hr::Rgb meanIntensity(hr::NodeId n, std::span<const hr::Vec3> p) const override { return in_->meanIntensity(n, p); }
   hr::Rgb intensityBound(hr::NodeId n, const hr::Vec3& a, double c) const override { return in_->intensityBound(n, a, c); }
   hr::Rgb totalPower(hr::NodeId n) const override { return in_->totalPower(n); }
@@ -139,7 +143,11 @@ class Adapter final : public hr::Extension {
   void reflectShot(hr::NodeId l, std::span<const hr::IncidentSample> s) override { in_->reflectShot(l, s); }
   std::size_t reflectShared(hr::NodeId e, std::span<hr::IncidentSample> s) override { return in_->reflectShared(e, s); }
   void shot(hr::NodeId n) override { in_->shot(n); }
-  hr::Rgb reflectedPower(hr::NodeId l) const override { return in_->reflectedPower(l); }
+  // Also read per cell for solution.vtp and inspect: a cell's share of its leaf's power, so the
+  // cells of a leaf sum to it (the cell id read as a leaf id gave another leaf's power).
+  hr::Rgb reflectedPower(hr::NodeId l) const override {
+    return isCell(l) ? cellShare_[l.index()] * in_->reflectedPower(leafOf(l)) : in_->reflectedPower(l);
+  }
   hr::Rgb sampleExitant(hr::NodeId l, double u1, double u2, hr::Vec3& d) const override {
     return in_->sampleExitant(l, u1, u2, d);
   }
@@ -208,6 +216,7 @@ class Adapter final : public hr::Extension {
     auto view = std::make_unique<LeafView>(cells, H, shown);
     in_->load(bytes.substr(r.at), *view);  // throws before anything of this adapter changes
     H_ = H, cellLeaf_ = std::move(cellLeaf), cellNormal_ = std::move(normals), shown_ = std::move(shown);
+    cellShare_ = areaShares(cells, cellLeaf_, H_);
     leaves_ = std::move(view);
     showing_ = true;
   }
@@ -215,11 +224,21 @@ class Adapter final : public hr::Extension {
 
  private:
   bool isCell(hr::NodeId c) const { return showing_ && !c.isCluster() && c.index() < cellLeaf_.size(); }
+  hr::NodeId leafOf(hr::NodeId c) const { return hr::NodeId{cellLeaf_[c.index()]}; }
+  /// Per cell: its area over the summed area of its leaf's cells (flat chords of a curved leaf).
+  static std::vector<double> areaShares(const hr::HostView& cells, const std::vector<std::uint32_t>& cellLeaf, std::uint32_t H) {
+    std::vector<double> leafArea(H, 0.0), share(cellLeaf.size(), 0.0);
+    for (std::uint32_t c = 0; c < cellLeaf.size(); ++c) leafArea[cellLeaf[c]] += cells.info(hr::NodeId{c}).area;
+    for (std::uint32_t c = 0; c < cellLeaf.size(); ++c)
+      if (leafArea[cellLeaf[c]] > 0.0) share[c] = cells.info(hr::NodeId{c}).area / leafArea[cellLeaf[c]];
+    return share;
+  }
   std::unique_ptr<hr::Extension> in_;
   std::uint32_t H_ = 0;
   bool showing_ = false;  // false while solving: ids are the host's
   std::vector<std::uint32_t> cellLeaf_;  // per cell: the host leaf it shows
   std::vector<hr::Vec3> cellNormal_;     // per cell: its flat polygon's normal
+  std::vector<double> cellShare_;        // per cell: its share of its leaf's light (areaShares)
   std::vector<std::pair<std::uint32_t, hr::NodeInfo>> shown_;  // the simulated leaves cells show, by id
   std::unique_ptr<LeafView> leaves_;     // loaded: the extension's view
 };

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -273,6 +274,45 @@ TEST(GlossyDisplayCli, ASpheresHighlightSitsWhereTheMirrorLawPutsItOnBothHosts) 
 }  // namespace
 
 namespace {
+
+TEST(VisionGlossy, ACellCarriesItsShareOfItsLeafsLight) {
+  // After the solve, the solution's elements are display cells, and solution.vtp and `inspect` ask
+  // the extension for each cell's reflected power and intensity. A cell's id read as a leaf's gave
+  // another leaf's light (the shiny sphere's cells at its highlight read 0 W). Now each cell carries
+  // its area's share of its leaf's, so a leaf's cells sum to the leaf, as measured before the cells
+  // were shown: power and intensity along the leaf's normal, to rounding.
+  const std::string json = sceneText("glossy_sphere.json");
+  hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(json, "").settings);
+  o.eps = 2e-3, o.maxLevel = 2;
+  auto ext = adapters::vision::adapt(adapters::findExtension("is").make());
+  auto v = visiontest::solveText(json, o, ext.get());
+  std::map<std::uint32_t, std::pair<hr::Rgb, hr::Rgb>> leaf;  // power, intensity along its normal
+  for (const vision::Element* e : v.leaves()) {
+    const hr::NodeId id{e->id};
+    const hr::Vec3 n = v.solver->view().info(id).normal;
+    leaf[e->id] = {ext->reflectedPower(id), ext->intensity(id, n)};
+  }
+  std::vector<std::uint32_t> cellLeaf;
+  const hr::Solution sol = vision::makeSolution(v.scene, *v.h, vision::Display::Smooth, &cellLeaf);
+  adapters::vision::showCells(*ext, v.solver->view(), sol, cellLeaf);
+  std::map<std::uint32_t, std::pair<hr::Rgb, hr::Rgb>> sum;
+  for (std::uint32_t c = 0; c < cellLeaf.size(); ++c) {
+    const hr::Vec3 n = v.solver->view().info(hr::NodeId{cellLeaf[c]}).normal;
+    sum[cellLeaf[c]].first += ext->reflectedPower(hr::NodeId{c});
+    sum[cellLeaf[c]].second += ext->intensity(hr::NodeId{c}, n);
+  }
+  std::size_t lit = 0;
+  for (const auto& [id, want] : leaf) {
+    if (!(want.first.y > 0.0)) continue;
+    ++lit;
+    EXPECT_NEAR(sum[id].first.y / want.first.y, 1.0, 1e-9) << "leaf " << id << "'s cells' power";
+    if (want.second.y > 0.0) {
+      EXPECT_NEAR(sum[id].second.y / want.second.y, 1.0, 1e-9) << "leaf " << id << "'s cells' intensity";
+    }
+  }
+  EXPECT_GT(lit, 10u);
+  std::printf("%zu lit glossy leaves in %zu cells\n", lit, cellLeaf.size());
+}
 
 TEST(VisionGlossyCli, TheCellsSectionRefusesDamageAndTheOlderLayout) {
   // The adapter's part of a VISION solution's extension section (magic, H, each cell's leaf, the
