@@ -1,9 +1,8 @@
 // Shared test scaffolding: solve a JSON scene text in memory and expose the results.
 #pragma once
 #include <hr/output.h>
-#include <hr/solver.h>
-
 #include <hr/solution.h>
+#include <hr/solver.h>
 
 #include <array>
 #include <cmath>

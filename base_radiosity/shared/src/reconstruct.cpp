@@ -129,12 +129,10 @@ void reconstruct(Solution& s) {
       }
     }
   });
-  // Corners averaged from leaf means draw a curved falloff too bright where it is convex (a lamp's
-  // light toward its horizon) and too dark where it is concave: the drawn mean of a leaf is not its
-  // radiosity. Each pass moves every corner by the area-weighted mean of its leaves' shortfalls
-  // (for a quadratic falloff on even leaves one pass makes every drawn mean exact), kept within
-  // the range of those leaves' radiosity so that a shadow edge, where the shortfalls alternate,
-  // does not ring.
+  // The mean passes (the file's comment): each moves every corner by the area-weighted mean of its
+  // leaves' shortfalls (for a quadratic falloff on even leaves one pass makes every drawn mean
+  // exact), kept within the range of those leaves' radiosity so that a shadow edge, where the
+  // shortfalls alternate, does not ring.
   std::vector<Rgb> shortfall(s.elements.size());
   for (int pass = 0; pass < kMeanPasses; ++pass) {
     tbb::parallel_for(std::uint32_t(0), std::uint32_t(s.elements.size()), [&](std::uint32_t i) {

@@ -67,14 +67,16 @@ const std::string* findSection(const Solution& s, const std::string& name);
 /// radiosity of the leaves of the same object and material that share that point and face within 30
 /// degrees of it (creases, objects, materials and emitters stay sharp), hidden leaves (a surface
 /// just in front, or a coplanar cover) left out of visible leaves' corners; then kMeanPasses move
-/// the corners, within their leaves' range, toward drawing each leaf's own mean. A solution with a "display" section reading "flat" keeps each element's own value instead; one
-/// holding a host's own corners (encodeDisplayCorners) takes those.
+/// the corners, within their leaves' range, toward drawing each leaf's own mean. A solution with a
+/// "display" section reading "flat" keeps each element's own value instead; one holding a host's
+/// own corners (encodeDisplayCorners) takes those.
 void reconstruct(Solution& s);
 
 /// Passes that move smoothed corners toward drawing each leaf's own mean (reconstruct; the VISION-like
 /// host's smoothing too): on the Cornell box at eps 2e-4 the image's rel. RMSE against the path tracer
 /// went 0.053 -> 0.043 / 0.041 with 1 / 2 passes, 0.041 with 4.
 inline constexpr int kMeanPasses = 2;
+
 /// Per element, 1 if it is a leaf hidden by a surface just in front of it or by a coplanar cover
 /// (the leaves whose radiosity smoothing must not spread onto visible neighbours), else 0.
 std::vector<char> hiddenLeaves(const Solution& s);
