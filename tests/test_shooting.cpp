@@ -87,6 +87,20 @@ TEST(Shooting, OpenCornellBoxBalances) {
   EXPECT_LE(s.stats.unshotW, 1e-4 * hr::luminance(s.stats.emittedW));
 }
 
+// A lamp facing away from everything: its first shot's link is refined away (nothing in front of
+// it), so it keeps none. The pass's link count wrapped below zero there and the solve threw
+// "vector::reserve"; now every watt escapes and the solve converges with no link stored.
+TEST(Shooting, ALampFacingAwayFromEverythingShootsIntoTheVoid) {
+  const char* scene = R"({ "materials": { "w": { "diffuse": [0.5,0.5,0.5] }, "l": { "emission": [10,10,10] } },
+    "objects": [ { "type": "quad", "material": "w", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]] },
+                 { "type": "quad", "material": "l", "vertices": [[-0.1,1,-0.1],[-0.1,1,0.1],[0.1,1,0.1],[0.1,1,-0.1]] } ] })";
+  hr::SolveStats st;
+  ASSERT_NO_THROW(st = testutil::solveText(scene, shooting(testutil::options(1e-3, 6))).stats);
+  EXPECT_TRUE(st.converged);
+  EXPECT_EQ(st.links, 0u);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(st.escapedW[c], st.emittedW[c], 1e-9 * st.emittedW[c]) << "channel " << c;
+}
+
 // A pass sends its shooters' unshot power P and adds back at most rho P, so with rho < 1 the unshot
 // power left must fall with every pass (links that created energy would show here).
 TEST(Shooting, UnshotPowerFallsWithEveryPass) {

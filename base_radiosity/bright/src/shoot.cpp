@@ -231,9 +231,11 @@ class Shooter {
     const std::size_t P = s_.h.patches().size();
     std::vector<std::uint32_t> keyOfPatch(P, ~0u);
     auto take = [&](std::size_t key, NodeId sender) {
+      // Uncounted before it is stored: a first shot's root link was never counted (a lamp facing
+      // away from everything loses it to refinement, and the count wrapped below zero).
+      links_ -= stored_[key].size();
       if (stored_[key].empty()) stored_[key].push_back(Link{sender, s_.h.root()});
       s_.links.insert(s_.links.end(), stored_[key].begin(), stored_[key].end());
-      links_ -= stored_[key].size();
       stored_[key] = {};
     };
     for (std::uint32_t c : shooters.clusters) {
