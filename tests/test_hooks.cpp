@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "helpers.h"
+#include "sample_recorder.h"
 
 namespace {
 
@@ -118,6 +120,24 @@ TEST(Hooks, ASolveThatCreatesEnergyStopsAsDiverging) {
   auto plain = testutil::solveText(scene, o);
   EXPECT_FALSE(plain.stats.diverged);
   EXPECT_TRUE(plain.stats.converged);
+}
+
+// A sample names its sender's normal when the sender is a flat element (the display carries its
+// foreshortening to the point it shows: hr::IncidentSample::senderNormal), gathering and shooting.
+TEST(Hooks, ASampleNamesItsFlatSendersNormal) {
+  for (hr::Iteration it : {hr::Iteration::Gather, hr::Iteration::Shoot}) {
+    hr::SolverOptions o;
+    o.eps = 1e-3;
+    o.iteration = it;
+    testutil::SampleRecorder rec;
+    auto s = testutil::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
+    std::size_t wrong = 0;
+    const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong);
+    std::printf("%s: %zu samples, %zu name the lamp's normal, %zu another\n", it == hr::Iteration::Gather ? "gather" : "shoot",
+                rec.seen.size(), named, wrong);
+    EXPECT_GT(named, 0u);
+    EXPECT_EQ(wrong, 0u);
+  }
 }
 
 }  // namespace

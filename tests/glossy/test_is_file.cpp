@@ -146,9 +146,9 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   glossy::IlluminationSamples ext;
   expectRefusal(ext, "", saved, "truncated");
   expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
-  std::string v4 = body;
-  v4[4] = 4;  // the format version field
-  expectRefusal(ext, resealed(v4), saved, "format version 4, this build reads version 3");
+  std::string v5 = body;
+  v5[4] = 5;  // the format version field
+  expectRefusal(ext, resealed(v5), saved, "format version 5, this build reads version 4");
   // The shown light (last in the section): its last sample's radius made negative.
   std::string radius = body;
   const double minusOne = -1.0;

@@ -103,6 +103,77 @@ TEST(ShownLight, ASourceIsReAimedFromThePointShown) {
   EXPECT_GT(glm::length(m - glossy::mirror(wi, Vec3(0, 0, 1))), 0.1);
 }
 
+TEST(ShownLight, AFlatSendersForeshorteningIsCarriedToThePointShown) {
+  // A small flat lamp 1 m off whose normal leans 50 degrees from the line to the leaf's centre. Seen
+  // from a point 0.3 m away it is foreshortened otherwise: the irradiance there is
+  // E (cosR_x / cosR) (cosS_x / cosS) (d / d_x)^2 (Lambert, a point-sized flat source), and the
+  // highlight is the lobe of that, within 1e-3 of its peak. Without the sender's normal (a cluster
+  // sender) the highlight keeps the leaf's foreshortening: more than 10 % off here. A point behind
+  // the lamp's plane gets none of its light.
+  const Vec3 wi = testhost::around(Vec3(0, 0, 1), 30.0 * kPi / 180.0, 1.0);
+  const Vec3 lampNormal = -testhost::around(wi, 50.0 * kPi / 180.0, 0.3);
+  hr::IncidentSample flat = pointSource(wi, kE, 1.0);
+  flat.senderNormal = glm::vec3(lampNormal);
+  Lit lit({flat}), blind({pointSource(wi, kE, 1.0)});
+  const Vec3 at = lit.centre() + Vec3(0.3, -0.1, 0.0), sender = lit.centre() + 1.0 * wi;
+  const double d = glm::length(sender - at);
+  const Vec3 wx = (sender - at) / d;
+  const double cosS = -glm::dot(lampNormal, wi), cosSx = -glm::dot(lampNormal, wx);
+  ASSERT_GT(cosSx, 0.0);
+  const Rgb e = kE * (wx.z / wi.z) * (cosSx / cosS) / (d * d);
+  const Vec3 m = glossy::mirror(wx, Vec3(0, 0, 1));
+  const double peak = lit.phong(wx, m, e).x;
+  double worst = 0.0, worstBlind = 0.0;
+  for (const Vec3& v : fan(m)) {
+    worst = std::max(worst, glm::length(lit.ext->radiance(lit.leaf, v, Vec3(0.0), at) - lit.phong(wx, v, e)) / peak);
+    worstBlind = std::max(worstBlind, glm::length(blind.ext->radiance(blind.leaf, v, Vec3(0.0), at) - lit.phong(wx, v, e)) / peak);
+  }
+  std::printf("worst error over the fan, relative to the peak: %.2e with the sender's normal, %.3f without\n", worst, worstBlind);
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_GT(worstBlind, 0.1);
+  // A point beyond the lamp's plane: nothing of the lamp's shown light (the stored cells' remain).
+  const Vec3 behind = sender + 0.5 * glm::normalize(glm::cross(lampNormal, Vec3(0, 0, 1))) - 0.3 * lampNormal;
+  const Vec3 past(behind.x, behind.y, lit.centre().z);
+  ASSERT_LT(-glm::dot(lampNormal, glm::normalize(sender - past)), 0.0);
+  Lit off({flat}, {{"exact-highlights", "off"}});
+  for (const Vec3& v : fan(glm::normalize(Vec3(0.2, 0.1, 1.0))))
+    EXPECT_LE(glm::length(lit.ext->radiance(lit.leaf, v, Vec3(0.0), past)), glm::length(off.ext->radiance(off.leaf, v)) + 1e-9);
+}
+
+TEST(ShownLight, ASmallSourcesHighlightIsTheLobesMeanOverItsDisk) {
+  // A source seen 0.02 rad wide in radius, a fifth of the lobe's width (under the quarter above which
+  // the display integrates its disk point by point). Its highlight is the lobe's mean over the disk,
+  // here computed on a polar grid of 200 x 400 directions: within 2e-3 of the peak over the fan. The
+  // lobe at the disk's centre alone is 2 % bright at the peak (n rho^2 / 4).
+  const Vec3 wi = testhost::around(Vec3(0, 0, 1), 35.0 * kPi / 180.0, 0.4);
+  hr::IncidentSample small = pointSource(wi, kE, 2.0);
+  small.radius = 0.04;
+  Lit lit({small});
+  const double rho = small.radius / small.distance;
+  Vec3 u, v;
+  glossy::orthonormalBasis(wi, u, v);
+  auto diskMean = [&](const Vec3& toEye) {  // cosine-weighted, as the irradiance is
+    Rgb sum(0.0);
+    double w = 0.0;
+    for (int i = 0; i < 200; ++i)
+      for (int j = 0; j < 400; ++j) {
+        const double r = rho * std::sqrt((i + 0.5) / 200.0), p = 2.0 * kPi * (j + 0.5) / 400.0;
+        const Vec3 d = glm::normalize(wi + std::tan(r) * (std::cos(p) * u + std::sin(p) * v));
+        sum += d.z * lit.phong(d, toEye, kE), w += d.z;
+      }
+    return sum / w;
+  };
+  const Vec3 m = glossy::mirror(wi, Vec3(0, 0, 1));
+  const double peak = diskMean(m).x;
+  double worst = 0.0;
+  for (const Vec3& e : fan(m)) worst = std::max(worst, glm::length(lit.shown(e) - diskMean(e)) / peak);
+  const double centre = lit.phong(wi, m, kE).x;
+  std::printf("disk mean at the peak %.5g, lobe at its centre %.5g (%+.2f %%), worst display error %.2e of the peak\n", peak,
+              centre, 100.0 * (centre / peak - 1.0), worst);
+  EXPECT_LT(worst, 2e-3);
+  EXPECT_GT(centre / peak - 1.0, 0.01);
+}
+
 TEST(ShownLight, TheDisplaySendsTheLeafsReflectedPower) {
   // Two small sources and one dim wide one. Per cell the display exchanges the shown samples' mean
   // for their exact lobes, so over the hemisphere A * integral of L cos equals the leaf's reflected

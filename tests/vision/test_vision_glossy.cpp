@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "../helpers.h"
+#include "../sample_recorder.h"
 #include "../test_dir.h"
 #include "registry.h"
 #include "vision/display_cells.h"
@@ -93,6 +94,21 @@ TEST(VisionGlossy, EverySampleALeafReflectsPointsAtItsSenderFromThatLeaf) {
   EXPECT_GT(ext.checked.load(), 10000u);
   EXPECT_EQ(ext.missed.load(), 0u);
   EXPECT_EQ(ext.unknown.load(), 0u);
+}
+
+TEST(VisionGlossy, ASampleNamesItsFlatSendersNormal) {
+  // As on the other host (Hooks.ASampleNamesItsFlatSendersNormal): a tilted lamp's light reaches the
+  // glossy floor in samples that name the lamp's normal, or none (a cluster sender).
+  hr::SolverOptions o;
+  o.eps = 1e-3;
+  o.iteration = hr::Iteration::Shoot;
+  testutil::SampleRecorder rec;
+  visiontest::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
+  std::size_t wrong = 0;
+  const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong);
+  std::printf("%zu samples, %zu name the lamp's normal, %zu another\n", rec.seen.size(), named, wrong);
+  EXPECT_GT(named, 0u);
+  EXPECT_EQ(wrong, 0u);
 }
 
 TEST(VisionGlossy, ReflectionInLayersGivesTheWholeSampleListsAnswer) {

@@ -95,9 +95,10 @@ class Shot {
   void accept(const Receiver& r, const Estimate& est) {
     if (r.e) {
       r.e->E += est.E;
-      if (s_.owned(*r.e) && est.E != Rgb(0.0)) r.e->arrivals.push_back({est.toSender, est.E, est.distance, est.radius});
+      if (s_.owned(*r.e) && est.E != Rgb(0.0))
+        r.e->arrivals.push_back({est.toSender, est.E, est.distance, est.radius, est.senderNormal});
     } else if (est.E != Rgb(0.0))
-      s_.samples[r.cluster].push_back({est.toSender, est.E, est.distance, est.radius});
+      s_.samples[r.cluster].push_back({est.toSender, est.E, est.distance, est.radius, est.senderNormal});
   }
 
   struct Pending {

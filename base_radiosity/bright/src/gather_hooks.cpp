@@ -27,10 +27,7 @@ class GatherHooks {
     if (std::uint32_t g = group_[key(n)]; g != kNone) {
       std::vector<IncidentSample> samples;
       samples.reserve(s_.groupStart[g + 1] - s_.groupStart[g]);
-      for (std::uint32_t i = s_.groupStart[g]; i < s_.groupStart[g + 1]; ++i) {
-        const auto [distance, radius] = s_.seenSender(s_.links[i]);
-        samples.push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E), distance, radius});
-      }
+      for (std::uint32_t i = s_.groupStart[g]; i < s_.groupStart[g + 1]; ++i) samples.push_back(s_.sampleOf(s_.links[i]));
       s_.samples.fetch_add(samples.size(), std::memory_order_relaxed);
       s_.ext->gather(n, samples);
     }

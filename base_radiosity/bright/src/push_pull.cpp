@@ -78,7 +78,7 @@ void addCosineLobe(float* t, const Vec3& n, const Rgb& rad) {
 /// A cluster's incoming light, as float arrays for the vectoriser: unit directions toward the
 /// senders and normal irradiance (W/m^2) per link.
 struct ClusterSamples {
-  std::vector<float> dx, dy, dz, er, eg, eb, dist, radius;
+  std::vector<float> dx, dy, dz, er, eg, eb, dist, radius, nx, ny, nz;  // n: the sender's normal (0: none)
   Vec3 centre{0.0};
 };
 
@@ -119,14 +119,16 @@ class PushPull {
         if (l.E == glm::vec3(0.0f)) continue;
         cs.dx.push_back(l.dir.x), cs.dy.push_back(l.dir.y), cs.dz.push_back(l.dir.z);
         cs.er.push_back(l.E.x), cs.eg.push_back(l.E.y), cs.eb.push_back(l.E.z);
-        const auto [distance, radius] = s.seenSender(l);
-        cs.dist.push_back(float(distance)), cs.radius.push_back(float(radius));
+        const IncidentSample x = s.sampleOf(l);
+        cs.dist.push_back(float(x.distance)), cs.radius.push_back(float(x.radius));
+        cs.nx.push_back(x.senderNormal.x), cs.ny.push_back(x.senderNormal.y), cs.nz.push_back(x.senderNormal.z);
       }
       cs.centre = s.h.center(r);
       while (cs.dx.size() % 4 != 0) {
         cs.dx.push_back(0.0f), cs.dy.push_back(0.0f), cs.dz.push_back(1.0f);
         cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
         cs.dist.push_back(0.0f), cs.radius.push_back(0.0f);
+        cs.nx.push_back(0.0f), cs.ny.push_back(0.0f), cs.nz.push_back(0.0f);
       }
     });
     if (prune_) markTouched();
@@ -241,10 +243,7 @@ class PushPull {
     std::size_t mark = samples ? samples->size() : 0;
     if (samples && carry_)
       for (std::uint32_t i = elemRange_[e].first; i < elemRange_[e].second; ++i)
-        if (s_.links[i].E != glm::vec3(0.0f)) {
-          const auto [distance, radius] = s_.seenSender(s_.links[i]);
-          samples->push_back({Vec3(s_.links[i].dir), Rgb(s_.links[i].E), distance, radius});
-        }
+        if (s_.links[i].E != glm::vec3(0.0f)) samples->push_back(s_.sampleOf(s_.links[i]));
     // An inner element offers what reached it to the extension, which may reflect once for every leaf
     // below what they all see alike (Extension::reflectShared); taken samples are not carried further
     // down, the rest are, re-aimed from each child's centre (hr::aimFrom). A shooting
@@ -334,7 +333,7 @@ class PushPull {
         double cosine = glm::dot(n, w);
         Rgb e(cs.er[i], cs.eg[i], cs.eb[i]);
         if (!(cosine > 0.0 && maxComponent(e) > 0.0)) continue;
-        IncidentSample s{w, e * cosine, double(cs.dist[i]), double(cs.radius[i])};
+        IncidentSample s{w, e * cosine, double(cs.dist[i]), double(cs.radius[i]), glm::vec3(cs.nx[i], cs.ny[i], cs.nz[i])};
         aimFrom(s, cs.centre, at);
         out.push_back(s);
       }

@@ -169,12 +169,19 @@ struct SolverState {
   const Material& mat(std::uint32_t e) const { return scene.materials[h.patches()[h.element(e).patch].material]; }
   /// The area of element e no coplanar patch covers, m^2: what its radiosity and irradiance apply to.
   double openArea(std::uint32_t e) const { return h.element(e).area * double(open[e]); }
-  /// A link's sender as its receiver sees it, for IncidentSample::distance and radius: the distance
-  /// between their centres, and hr::senderDiskRadius of the sender (a cluster as a face seen square on).
-  std::pair<double, double> seenSender(const Link& l) const {
-    const double d = glm::length(h.center(l.sender) - h.center(l.receiver));
-    const double c = l.sender.isCluster() ? 1.0 : glm::dot(h.element(l.sender.index()).normal, Vec3(l.dir));
-    return {d, senderDiskRadius(h.spread2(l.sender), c)};
+  /// The Illumination Sample a link brought this iteration: its direction and irradiance, the
+  /// distance between the centres, hr::senderDiskRadius of the sender (a cluster as a face seen square
+  /// on) and an element sender's normal (a cluster has none).
+  IncidentSample sampleOf(const Link& l) const {
+    IncidentSample out{Vec3(l.dir), Rgb(l.E), glm::length(h.center(l.sender) - h.center(l.receiver)), 0.0};
+    if (l.sender.isCluster()) {
+      out.radius = senderDiskRadius(h.spread2(l.sender), 1.0);
+      return out;
+    }
+    const Vec3& n = h.element(l.sender.index()).normal;
+    out.radius = senderDiskRadius(h.spread2(l.sender), glm::dot(n, Vec3(l.dir)));
+    out.senderNormal = glm::vec3(n);
+    return out;
   }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }
   /// Whether a node sends direct light: an emitting element, or a cluster made only of emitters

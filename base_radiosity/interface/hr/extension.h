@@ -26,6 +26,10 @@ struct IncidentSample {
   Rgb irradiance{0.0};   // W/m^2, visibility included
   double distance = 0.0;  // m, to the sender's centre from where toSender was taken; 0: unknown
   double radius = 0.0;    // m, the sender's extent about its centre (a disk of its second moment); 0: a point
+  // Unit normal of a flat sender, zero for a cluster, a curved or an unknown one: a display that
+  // carries the irradiance to another point of the receiver needs the sender's foreshortening there
+  // too (a tilted lamp 2 m off is 3 % brighter seen from 10 cm nearer its axis). Floats: hosts hold many.
+  glm::vec3 senderNormal{0.0f};
 };
 
 /// IncidentSample::radius of a sender whose surface has mean squared distance spread2 (m^2) from its

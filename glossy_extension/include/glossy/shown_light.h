@@ -32,8 +32,11 @@ struct ShownLight {
   /// the display needs no more, and a leaf may keep kShownSamples of them.
   struct Sample {
     glm::vec3 toSender{0, 0, 1}, irradiance{0.0f}, from{0.0f}, normal{0, 0, 1};
+    glm::vec3 senderNormal{0.0f};          // a flat sender's (hr::IncidentSample::senderNormal); 0: none
     float distance = 0.0f, radius = 0.0f;  // m; distance 0: unknown
-    hr::IncidentSample in() const { return {Vec3(toSender), Rgb(irradiance), double(distance), double(radius)}; }
+    hr::IncidentSample in() const {
+      return {Vec3(toSender), Rgb(irradiance), double(distance), double(radius), senderNormal};
+    }
   };
   std::vector<Sample> samples;  // the brightest first
   double total = 0.0;           // luminance of all the irradiance the leaf received, W/m^2
@@ -61,8 +64,8 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
 Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega);
 
 /// Radiance (W/(m^2 sr)) toward unit toEye of the shown samples reflected at point x (m) of a
-/// surface of unit normal n: each source re-aimed from x, its irradiance carried from its leaf's plane
-/// and distance to x's, and integrated over its disk.
+/// surface of unit normal n: each source re-aimed from x, its irradiance carried from its leaf's plane,
+/// distance and (a flat sender's) foreshortening to x's, and integrated over its disk.
 Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye);
 
 }  // namespace glossy

@@ -77,6 +77,7 @@ struct ClusterSample {
   Rgb Eperp{0.0};
   double distance = 0.0;  // to the sender's centre from the cluster's, m
   double radius = 0.0;    // the sender's, as hr::IncidentSample::radius
+  glm::vec3 senderNormal{0.0f};  // as hr::IncidentSample::senderNormal
 };
 
 class Hierarchy {
