@@ -25,7 +25,8 @@ struct Image {
 using DisplayFn = std::function<Rgb(std::uint32_t leaf, const Vec3& hitPoint, const Vec3& toEye)>;
 
 /// Casts samplesPerAxis^2 primary rays per pixel (a regular grid) through Embree and shades from the
-/// stored solution; pixels hold averages (W/(m^2 sr)), object ids come from the pixel centre.
+/// stored solution, and 9 times as many where they differ (edges, shadows, highlights); pixels hold
+/// averages (W/(m^2 sr)), object ids come from the pixel centre.
 Image render(const Solution& s, const Camera& cam, const DisplayFn& display = nullptr, int samplesPerAxis = 3);
 /// The same with the run's extension, loaded (its radiance added, smooth per display vertex); a null
 /// extension renders the host's light alone.
