@@ -105,6 +105,7 @@ struct Capture {
 
 void save(const Capture& c, const std::string& path) {
   std::ofstream f(path, std::ios::binary);
+  put(f, std::uint32_t(sizeof(hr::IncidentSample)));  // samples are raw bytes: their layout's size first
   put(f, std::uint64_t(c.materials.size()));
   for (const auto& m : c.materials) put(f, m);
   put(f, std::uint64_t(c.calls.size()));
@@ -120,6 +121,9 @@ Capture load(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw std::runtime_error("cannot read " + path);
   Capture c;
+  if (const auto bytes = get<std::uint32_t>(f); bytes != sizeof(hr::IncidentSample))
+    throw std::runtime_error(path + ": samples of " + std::to_string(bytes) + " bytes, this build's have " +
+                             std::to_string(sizeof(hr::IncidentSample)) + ": capture again");
   c.materials.resize(get<std::uint64_t>(f));
   for (auto& m : c.materials) m = get<hr::MaterialInfo>(f);
   c.calls.resize(get<std::uint64_t>(f));

@@ -26,7 +26,7 @@ class SampleRecorder final : public hr::Extension {
   std::mutex m_;
 };
 
-/// A tilted 20 cm lamp 1 m above a 2 x 2 m glossy floor (the lamp faces down and toward -x) and
+/// A tilted 20 x 28 cm lamp 1 m above a 2 x 2 m glossy floor (the lamp faces down and toward -x) and
 /// nothing else: every sample the floor receives comes from the lamp, whose normal is kTiltedLampNormal.
 inline const char* kTiltedLampOverGlossyFloor = R"({
   "materials": { "floor": { "diffuse": [0.3,0.3,0.3], "specular": [0.5,0.5,0.5], "exponent": 100 },

@@ -139,13 +139,16 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
     if (d > 0.0) scale *= (in.distance / d) * (in.distance / d);
     // A flat sender is also foreshortened otherwise from x: floor_gloss's tilted lamp, 2 m from the
     // sphere, is 3 % brighter seen from a leaf 10 cm nearer its axis, and a highlight drawn from the
-    // leaves around it moved with their layout (the VISION-like host's peak 1.9 % bright).
+    // leaves around it moved with their layout (the VISION-like host's peak 1.9 % bright). Outside
+    // the clamp, so that the light fades to nothing as x nears the sender's plane; held to 4 above
+    // (a leaf that saw the sender edge-on). A Lambertian sender's cosine: a glossy one's is near it.
+    double sender = 1.0;
     if (d > 0.0 && in.senderNormal != glm::vec3(0.0f)) {
       const double fromLeaf = -glm::dot(Vec3(in.senderNormal), in.toSender), fromX = -glm::dot(Vec3(in.senderNormal), wi);
       if (fromLeaf > 0.0 && !(fromX > 0.0)) continue;  // x is behind the sender's plane
-      if (fromLeaf > 0.0) scale *= fromX / fromLeaf;
+      if (fromLeaf > 0.0) sender = std::min(fromX / fromLeaf, 4.0);
     }
-    const Rgb e = in.irradiance * std::clamp(scale, 0.25, 4.0);
+    const Rgb e = in.irradiance * (std::clamp(scale, 0.25, 4.0) * sender);
     const double seen = d > 0.0 && in.radius > 0.0 ? in.radius / d : 0.0;
     if (!(seen > 0.25 * width)) {
       sum += f * e * lobeOverDisk(glm::dot(mirror(wi, n), toEye), s.exponent, seen * seen);

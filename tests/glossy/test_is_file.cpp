@@ -32,7 +32,12 @@ struct Solved {
     for (NodeId leaf : scene.host.simulatedLeaves(*ext)) {
       Vec3 n = scene.host.info(leaf).normal;
       std::vector<hr::IncidentSample> s;
-      for (int k = 0; k < 4; ++k) s.push_back(testhost::sample(testhost::around(n, std::acos(u(g)), 2 * kPi * u(g)), Rgb(u(g), 1.0, u(g))));
+      for (int k = 0; k < 4; ++k) {
+        s.push_back(testhost::sample(testhost::around(n, std::acos(u(g)), 2 * kPi * u(g)), Rgb(u(g), 1.0, u(g))));
+        // A flat sender 2 m off facing the leaf askew: the shown light keeps its distance and normal.
+        s.back().distance = 2.0, s.back().radius = 0.01;
+        s.back().senderNormal = glm::vec3(-glm::normalize(s.back().toSender + 0.3 * testhost::around(n, 1.2, k)));
+      }
       ext->reflect(leaf, s);
     }
     scene.host.pullAll(*ext);
@@ -53,6 +58,7 @@ std::vector<double> fingerprint(const hr::Extension& ext, const testhost::FakeHo
       push(ext.intensity(leaf, d));
       push(ext.radiance(leaf, d));
       push(ext.radiance(leaf, d, Vec3(0.0), host.info(leaf).center));  // with the shown light (shown_light.h)
+      push(ext.radiance(leaf, d, Vec3(0.0), host.info(leaf).center + 0.3 * testdirs::sphere(g)));  // re-aimed there
       push(ext.intensityBound(leaf, d, 0.9));
       push(ext.sampleExitant(leaf, u(g), u(g), s));
       push(s);
@@ -149,11 +155,20 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   std::string v5 = body;
   v5[4] = 5;  // the format version field
   expectRefusal(ext, resealed(v5), saved, "format version 5, this build reads version 4");
-  // The shown light (last in the section): its last sample's radius made negative.
+  // The shown light (last in the section): its last sample's radius made negative, and its sender's
+  // normal (the three values before distance and radius) made twice a unit.
   std::string radius = body;
-  const double minusOne = -1.0;
+  const double minusOne = -1.0, two = 2.0;
   std::memcpy(&radius[radius.size() - 8], &minusOne, 8);
   expectRefusal(ext, resealed(radius), saved, "shown light: sample");
+  std::string normal = body;
+  for (int c = 0; c < 3; ++c) {
+    double v;
+    std::memcpy(&v, &normal[normal.size() - 40 + 8 * c], 8);
+    v *= two;
+    std::memcpy(&normal[normal.size() - 40 + 8 * c], &v, 8);
+  }
+  expectRefusal(ext, resealed(normal), saved, "shown light: sample");
   std::string flag = body;
   flag[8] = 2;  // the automatic-basis flag: 0 or 1
   expectRefusal(ext, resealed(flag), saved, "bad automatic-basis flag 2");

@@ -78,7 +78,8 @@ void addCosineLobe(float* t, const Vec3& n, const Rgb& rad) {
 /// A cluster's incoming light, as float arrays for the vectoriser: unit directions toward the
 /// senders and normal irradiance (W/m^2) per link.
 struct ClusterSamples {
-  std::vector<float> dx, dy, dz, er, eg, eb, dist, radius, nx, ny, nz;  // n: the sender's normal (0: none)
+  std::vector<float> dx, dy, dz, er, eg, eb, dist, radius;
+  std::vector<float> nx, ny, nz;  // the sender's normal (0: none); only where samples are carried
   Vec3 centre{0.0};
 };
 
@@ -121,14 +122,14 @@ class PushPull {
         cs.er.push_back(l.E.x), cs.eg.push_back(l.E.y), cs.eb.push_back(l.E.z);
         const IncidentSample x = s.sampleOf(l);
         cs.dist.push_back(float(x.distance)), cs.radius.push_back(float(x.radius));
-        cs.nx.push_back(x.senderNormal.x), cs.ny.push_back(x.senderNormal.y), cs.nz.push_back(x.senderNormal.z);
+        if (carry_) cs.nx.push_back(x.senderNormal.x), cs.ny.push_back(x.senderNormal.y), cs.nz.push_back(x.senderNormal.z);
       }
       cs.centre = s.h.center(r);
       while (cs.dx.size() % 4 != 0) {
         cs.dx.push_back(0.0f), cs.dy.push_back(0.0f), cs.dz.push_back(1.0f);
         cs.er.push_back(0.0f), cs.eg.push_back(0.0f), cs.eb.push_back(0.0f);
         cs.dist.push_back(0.0f), cs.radius.push_back(0.0f);
-        cs.nx.push_back(0.0f), cs.ny.push_back(0.0f), cs.nz.push_back(0.0f);
+        if (carry_) cs.nx.push_back(0.0f), cs.ny.push_back(0.0f), cs.nz.push_back(0.0f);
       }
     });
     if (prune_) markTouched();
