@@ -174,6 +174,52 @@ TEST(ShownLight, ASmallSourcesHighlightIsTheLobesMeanOverItsDisk) {
   EXPECT_GT(centre / peak - 1.0, 0.01);
 }
 
+TEST(ShownLight, ALampInManyPiecesShowsOneHighlight) {
+  // A square lamp a lobe's width across, 2 m off and facing the leaf, as a fine solution reaches a
+  // leaf: in 12 x 12 pieces, each under the 1/64 share and more of them than a leaf keeps. Its
+  // highlight is the sum of the pieces' lobes (each a 120th of the lobe's width: a point): the
+  // display within 3 % of its peak over the fan, the pieces of the flat sender joined as far as it
+  // takes to keep their light. The same pieces without a sender's normal (not known to be one flat
+  // sender) are not joined, fall under the share one by one, and leave the highlight to the stored
+  // cells: more than 10 % off.
+  const Vec3 wi = testhost::around(Vec3(0, 0, 1), 35.0 * kPi / 180.0, 0.4);
+  const double side = 0.2, distance = 2.0, radiance = 60.0;  // m, m, W/(m^2 sr)
+  const int k = 12;
+  const double h = side / k;
+  Vec3 u, v;
+  glossy::orthonormalBasis(wi, u, v);
+  Lit probe({});
+  const Vec3 c = probe.centre(), lamp = c + distance * wi;
+  std::vector<hr::IncidentSample> pieces, anonymous;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      const Vec3 p = lamp + ((i + 0.5) * h - 0.5 * side) * u + ((j + 0.5) * h - 0.5 * side) * v, to = p - c;
+      const double d = glm::length(to), cosS = glm::dot(wi, to / d);
+      hr::IncidentSample s = pointSource(to / d, Rgb(radiance * h * h * (to.z / d) * cosS / (d * d)), d);
+      s.radius = hr::senderDiskRadius(h * h / 6.0, cosS);
+      anonymous.push_back(s);
+      s.senderNormal = glm::vec3(-wi);
+      pieces.push_back(s);
+    }
+  Lit lit(pieces), blind(anonymous);
+  auto exact = [&](const Vec3& toEye) {
+    Rgb sum(0.0);
+    for (const hr::IncidentSample& s : pieces) sum += lit.phong(s.toSender, toEye, s.irradiance);
+    return sum;
+  };
+  const Vec3 m = glossy::mirror(wi, Vec3(0, 0, 1));
+  const double peak = exact(m).x;
+  double worst = 0.0, worstBlind = 0.0;
+  for (const Vec3& e : fan(m)) {
+    worst = std::max(worst, glm::length(lit.shown(e) - exact(e)) / peak);
+    worstBlind = std::max(worstBlind, glm::length(blind.shown(e) - exact(e)) / peak);
+  }
+  std::printf("peak %.5g W/(m^2 sr); worst error over the fan %.2e of it, %.3f with the pieces left apart\n", peak, worst,
+              worstBlind);
+  EXPECT_LT(worst, 0.03);
+  EXPECT_GT(worstBlind, 0.1);
+}
+
 TEST(ShownLight, TheDisplaySendsTheLeafsReflectedPower) {
   // Two small sources and one dim wide one. Per cell the display exchanges the shown samples' mean
   // for their exact lobes, so over the hemisphere A * integral of L cos equals the leaf's reflected

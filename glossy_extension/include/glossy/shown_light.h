@@ -3,7 +3,8 @@
 // source's highlight is then as wide as a cell, and on a curved surface it sits where the leaf's
 // centre puts it. So a leaf also keeps its brightest samples (each at least kShownShare of the
 // irradiance its samples bring, from a sender seen no wider than kShownWidth lobe widths, at most
-// kShownSamples of them), and a display view that names its point (still images' curved leaves,
+// kShownSamples of them; a flat sender's pieces joined into one where they would fall under the share
+// or beyond the count, as a fine solution's lamp does), and a display view that names its point (still images' curved leaves,
 // per pixel; not display vertices, where it would cost a cell integral each and alias) adds, inside the one
 // cell it reads, their reflection at the point and normal it shows, the source integrated over its
 // disk and re-aimed from that point, minus that cell's mean of the same samples' lobes as the
@@ -25,6 +26,11 @@ namespace glossy {
 inline constexpr int kShownSamples = 16;
 inline constexpr double kShownShare = 1.0 / 64.0;
 inline constexpr double kShownWidth = 2.0;  // the widest source kept, in lobe widths: a highlight's, not a scene's
+// How near (lobe widths) pieces of one flat sender may be to be shown as one, narrowest first.
+inline constexpr double kMergeWidths[] = {0.125, 0.25, 0.5};
+// The least share of a leaf's light a piece may bring to be joined with others: a lamp in up to
+// 1,024 pieces (a wall's many faint ones are not looked at, which held the glossy Soda Shoppe's peak).
+inline constexpr double kPieceShare = kShownShare / 16.0;
 
 struct ShownLight {
   /// A sample as a leaf received it: aimed from `from` (m, that leaf's centre), its irradiance on the
@@ -54,7 +60,8 @@ std::shared_ptr<const ShownLight> keepShown(std::span<const hr::IncidentSample> 
 
 /// One leaf's shown light of two parts together (a shooting leaf's passes, Radiance Clustering's
 /// samples one by one): the samples of both that keep their share of the joint total, the brightest
-/// first. The order of joining does not change the result (a share only shrinks as light is added).
+/// first, a flat sender's pieces from either joined as keepShown joins them. Hosts join in a fixed
+/// order; another order may group the pieces otherwise.
 std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLight>& a,
                                             const std::shared_ptr<const ShownLight>& b);
 
