@@ -71,7 +71,8 @@ std::vector<hr::OptionSpec> isOptionSpecs() {
                         "reflected as the sender's disk (spread over up to 8 directions), not as one lobe about "
                         "its centre (docs/glossy.md)"},
       {"exact-highlights", "on (default) or off: the display reflects each glossy leaf's brightest incident "
-                           "samples (at most 16, each at least 1/64 of its light) exactly at the point shown, in "
+                           "samples (at most 16, each at least 1/64 of its light, a flat sender's pieces joined "
+                           "where they would fall short) exactly at the point shown, in "
                            "place of their mean over the stored cell it reads; off shows the stored distribution "
                            "alone, as the paper (docs/glossy.md, \"Highlights at display\")"},
   };

@@ -9,6 +9,7 @@
 #include <glossy/illumination_samples.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -174,6 +175,28 @@ TEST(ShownLight, ASmallSourcesHighlightIsTheLobesMeanOverItsDisk) {
   EXPECT_GT(centre / peak - 1.0, 0.01);
 }
 
+/// A square lamp of this side (m), `distance` m off along wi from the point c and facing it, of
+/// radiance L (W/(m^2 sr)), in k x k pieces as a fine solution reaches a leaf at c (normal +z): each
+/// a flat sender's sample, or with no sender normal when `flat` is false.
+std::vector<hr::IncidentSample> lampPieces(const Vec3& c, const Vec3& wi, double side, double distance, double L, int k,
+                                           bool flat) {
+  const double h = side / k;
+  Vec3 u, v;
+  glossy::orthonormalBasis(wi, u, v);
+  const Vec3 lamp = c + distance * wi;
+  std::vector<hr::IncidentSample> out;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      const Vec3 p = lamp + ((i + 0.5) * h - 0.5 * side) * u + ((j + 0.5) * h - 0.5 * side) * v, to = p - c;
+      const double d = glm::length(to), cosS = glm::dot(wi, to / d);
+      hr::IncidentSample s = pointSource(to / d, Rgb(L * h * h * (to.z / d) * cosS / (d * d)), d);
+      s.radius = hr::senderDiskRadius(h * h / 6.0, cosS);
+      if (flat) s.senderNormal = glm::vec3(-wi);
+      out.push_back(s);
+    }
+  return out;
+}
+
 TEST(ShownLight, ALampInManyPiecesShowsOneHighlight) {
   // A square lamp a lobe's width across, 2 m off and facing the leaf, as a fine solution reaches a
   // leaf: in 12 x 12 pieces, each under the 1/64 share and more of them than a leaf keeps. Its
@@ -183,25 +206,9 @@ TEST(ShownLight, ALampInManyPiecesShowsOneHighlight) {
   // sender) are not joined, fall under the share one by one, and leave the highlight to the stored
   // cells: more than 10 % off.
   const Vec3 wi = testhost::around(Vec3(0, 0, 1), 35.0 * kPi / 180.0, 0.4);
-  const double side = 0.2, distance = 2.0, radiance = 60.0;  // m, m, W/(m^2 sr)
-  const int k = 12;
-  const double h = side / k;
-  Vec3 u, v;
-  glossy::orthonormalBasis(wi, u, v);
   Lit probe({});
-  const Vec3 c = probe.centre(), lamp = c + distance * wi;
-  std::vector<hr::IncidentSample> pieces, anonymous;
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < k; ++j) {
-      const Vec3 p = lamp + ((i + 0.5) * h - 0.5 * side) * u + ((j + 0.5) * h - 0.5 * side) * v, to = p - c;
-      const double d = glm::length(to), cosS = glm::dot(wi, to / d);
-      hr::IncidentSample s = pointSource(to / d, Rgb(radiance * h * h * (to.z / d) * cosS / (d * d)), d);
-      s.radius = hr::senderDiskRadius(h * h / 6.0, cosS);
-      anonymous.push_back(s);
-      s.senderNormal = glm::vec3(-wi);
-      pieces.push_back(s);
-    }
-  Lit lit(pieces), blind(anonymous);
+  const std::vector<hr::IncidentSample> pieces = lampPieces(probe.centre(), wi, 0.2, 2.0, 60.0, 12, true);
+  Lit lit(pieces), blind(lampPieces(probe.centre(), wi, 0.2, 2.0, 60.0, 12, false));
   auto exact = [&](const Vec3& toEye) {
     Rgb sum(0.0);
     for (const hr::IncidentSample& s : pieces) sum += lit.phong(s.toSender, toEye, s.irradiance);
@@ -218,6 +225,26 @@ TEST(ShownLight, ALampInManyPiecesShowsOneHighlight) {
               worstBlind);
   EXPECT_LT(worst, 0.03);
   EXPECT_GT(worstBlind, 0.1);
+}
+
+TEST(ShownLight, JoinedPiecesAreADiskOfTheirSecondMoment) {
+  // A lamp 0.02 m square, 2 m off and facing the leaf, in 8 x 8 pieces: joined into one sample whose
+  // irradiance is the pieces' sum and whose radius is the whole square's (senderDiskRadius of its
+  // second moment side^2 / 6, seen face on), within 1e-3; its direction the square's centre's.
+  const Vec3 wi = testhost::around(Vec3(0, 0, 1), 35.0 * kPi / 180.0, 0.4);
+  const double side = 0.02;
+  const std::vector<hr::IncidentSample> pieces = lampPieces(Vec3(0.0), wi, side, 2.0, 6e4, 8, true);
+  Rgb sum(0.0);
+  for (const hr::IncidentSample& s : pieces) sum += s.irradiance;
+  const auto kept = glossy::keepShown(pieces, Vec3(0.0), Vec3(0, 0, 1), Rgb(0.5), kN, 4, glossy::kSenderPoints);
+  ASSERT_NE(kept, nullptr);
+  ASSERT_EQ(kept->samples.size(), 1u);
+  const glossy::ShownLight::Sample& one = kept->samples[0];
+  const double want = hr::senderDiskRadius(side * side / 6.0, 1.0);
+  std::printf("radius %.7f m against %.7f m\n", double(one.radius), want);
+  EXPECT_NEAR(one.radius, want, 1e-3 * want);
+  EXPECT_NEAR(glm::length(Rgb(one.irradiance) - sum), 0.0, 1e-5 * glm::length(sum));
+  EXPECT_GT(glm::dot(Vec3(one.toSender), wi), std::cos(1e-5));
 }
 
 TEST(ShownLight, TheDisplaySendsTheLeafsReflectedPower) {

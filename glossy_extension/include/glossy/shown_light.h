@@ -26,10 +26,10 @@ namespace glossy {
 inline constexpr int kShownSamples = 16;
 inline constexpr double kShownShare = 1.0 / 64.0;
 inline constexpr double kShownWidth = 2.0;  // the widest source kept, in lobe widths: a highlight's, not a scene's
-// How near (lobe widths) pieces of one flat sender may be to be shown as one, narrowest first.
+// How near (lobe widths) to a group's centre pieces of one flat sender may be to be shown as one,
+// narrowest first.
 inline constexpr double kMergeWidths[] = {0.125, 0.25, 0.5};
-// The least share of a leaf's light a piece may bring to be joined with others: a lamp in up to
-// 1,024 pieces (a wall's many faint ones are not looked at, which held the glossy Soda Shoppe's peak).
+inline constexpr int kMaxPieces = 256;  // the brightest samples looked at for joining
 inline constexpr double kPieceShare = kShownShare / 16.0;
 
 struct ShownLight {
