@@ -21,17 +21,17 @@ bool usable(const hr::IncidentSample& s) {
          std::isfinite(s.distance) && std::isfinite(s.radius);
 }
 
+bool brighter(const ShownLight::Sample& a, const ShownLight::Sample& b) {
+  return hr::luminance(Rgb(a.irradiance)) > hr::luminance(Rgb(b.irradiance));
+}
+
 /// Pieces of one flat sender within `reach` (radians) of a group's centre as the leaf sees them,
 /// joined into one sample: their irradiance summed, about their luminance-weighted centre, with the
 /// second moment of all of them across the line of sight (so the disk they make is as wide as the
-/// pieces together). Brightest first, each into the group it fits nearest; only the brightest
-/// kMaxPieces are looked at (grouping is quadratic in them). A group that would be wider than
-/// `widest` times its distance (a shown sample's limit) keeps its pieces apart.
+/// pieces together). v comes brightest first; each piece goes into the group it fits nearest; only
+/// the brightest kMaxPieces are looked at (grouping is quadratic in them). A group that would be
+/// wider than `widest` times its distance (a shown sample's limit) keeps its pieces apart.
 void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest) {
-  auto brighter = [](const ShownLight::Sample& a, const ShownLight::Sample& b) {
-    return hr::luminance(Rgb(a.irradiance)) > hr::luminance(Rgb(b.irradiance));
-  };
-  std::stable_sort(v.begin(), v.end(), brighter);
   struct Group {
     std::vector<std::size_t> pieces;  // the first, the brightest, names its leaf, plane and sender normal
     double weight = 0.0;              // luminance
@@ -112,9 +112,7 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
 /// Those that keep their share of the total, the brightest first, at most kShownSamples.
 void keepBrightest(std::vector<ShownLight::Sample>& v, double total) {
   std::erase_if(v, [&](const ShownLight::Sample& x) { return !(hr::luminance(Rgb(x.irradiance)) >= kShownShare * total); });
-  std::stable_sort(v.begin(), v.end(), [](const ShownLight::Sample& a, const ShownLight::Sample& b) {
-    return hr::luminance(Rgb(a.irradiance)) > hr::luminance(Rgb(b.irradiance));
-  });
+  std::stable_sort(v.begin(), v.end(), brighter);
   if (v.size() > std::size_t(kShownSamples)) v.resize(std::size_t(kShownSamples));
 }
 
@@ -135,9 +133,14 @@ double keptLight(const std::vector<ShownLight::Sample>& v) {
 /// share, and keeps what it kept before (docs/glossy.md, "A lamp in many pieces").
 void keepJoined(std::vector<ShownLight::Sample>& v, double total, double exponent) {
   const double width = lobeWidth(exponent), widest = kShownWidth * width;
+  std::stable_sort(v.begin(), v.end(), brighter);  // once, for every width's join
+  // No join keeps more than all of it: once the one taken is within a share of that, a wider one
+  // could not be taken, and is not tried (most leaves stop at the first).
+  const double all = keptLight(v);
   std::vector<ShownLight::Sample> best;
   double bestKept = -1.0;
   for (const double w : kMergeWidths) {
+    if (all <= bestKept + kShownShare * total) break;
     std::vector<ShownLight::Sample> t = v;
     joinPieces(t, w * width, widest);
     keepBrightest(t, total);

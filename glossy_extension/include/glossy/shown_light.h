@@ -3,12 +3,12 @@
 // source's highlight is then as wide as a cell, and on a curved surface it sits where the leaf's
 // centre puts it. So a leaf also keeps its brightest samples (each at least kShownShare of the
 // irradiance its samples bring, from a sender seen no wider than kShownWidth lobe widths, at most
-// kShownSamples of them; a flat sender's pieces joined into one where they would fall under the share
-// or beyond the count, as a fine solution's lamp does), and a display view that names its point (still images' curved leaves,
-// per pixel; not display vertices, where it would cost a cell integral each and alias) adds, inside the one
-// cell it reads, their reflection at the point and normal it shows, the source integrated over its
-// disk and re-aimed from that point, minus that cell's mean of the same samples' lobes as the
-// solve deposited them. Over every cell the addition averages to the sources' exact reflection
+// kShownSamples of them; a flat sender's pieces joined into one where they would fall under the
+// share or beyond the count, as a fine solution's lamp does), and a display view that names its
+// point (still images' curved leaves, per pixel; not display vertices, where it would cost a cell
+// integral each and alias) adds, inside the one cell it reads, their reflection at the point and
+// normal it shows, the source integrated over its disk and re-aimed from that point, minus that
+// cell's mean of the same samples' lobes as the solve deposited them. Over every cell the addition averages to the sources' exact reflection
 // instead of their deposited lobes, so the display's light per cell stays the solution's and a
 // highlight takes the source's shape (floor_gloss's shiny sphere: docs/glossy.md, "Highlights at
 // display"). The solve itself never reads these samples.
@@ -30,7 +30,7 @@ inline constexpr double kShownWidth = 2.0;  // the widest source kept, in lobe w
 // narrowest first.
 inline constexpr double kMergeWidths[] = {0.125, 0.25, 0.5};
 inline constexpr int kMaxPieces = 256;  // the brightest samples looked at for joining
-inline constexpr double kPieceShare = kShownShare / 16.0;
+inline constexpr double kPieceShare = kShownShare / 16.0;  // the least share a piece to be joined brings
 
 struct ShownLight {
   /// A sample as a leaf received it: aimed from `from` (m, that leaf's centre), its irradiance on the
