@@ -137,20 +137,24 @@ std::string threeSquareLights() {
   return scene.dump();
 }
 
-// The acceptance's 1 % where the two schemes discretise alike. On three_lights.json itself the gap
-// was 5.0 % at its eps 1e-4 (gathering against itself 0.9-1.3 %) while shooters were patches: each
-// disk light is 16 patches, which gathering sends through cluster links whose bounds refine the
-// receivers 3.4x as finely in its first iteration (5,679 elements against shooting's 1,691; cluster
-// shooters since, the test above). With each light one patch both refine alike (1,642 elements
-// after the first pass in both) and the images agree to 0.65-0.71 % (seeds 1-4; each scheme against
-// itself with another seed 0.58-0.79 %), so a defect of glossy shooting's transport (stale light in
-// split children, a final answer that is not the fixed point of its links) shows here as more than 1 %.
-TEST(GlossyShooting, SquareLightsImageAgreesWithGatheringWithinOnePercent) {
+// Where the two schemes discretise alike, shooting must agree with gathering as closely as gathering
+// agrees with itself. On three_lights.json itself the gap was 5.0 % at its eps 1e-4 (gathering
+// against itself 0.9-1.3 %) while shooters were patches: each disk light is 16 patches, which
+// gathering sends through cluster links whose bounds refine the receivers 3.4x as finely in its first
+// iteration (5,679 elements against shooting's 1,691; cluster shooters since, the test above). With
+// each light one patch both refine alike, so a defect of glossy shooting's transport (stale light in
+// split children, a final answer that is not the fixed point of its links) shows here as more than
+// the seed's own spread. That spread is the bar, not a fixed 1 %: since the shadow term refines the
+// lamps' shadows finely, gathering against itself with another seed reads 0.97-1.26 % (seeds 1-4,
+// 2026-12-06), and shooting against gathering 1.01-1.27 % with the same seed (0.97-1.49 % for seeds
+// 1-6 before emitters kept the shadow term; the fixed 1 % passed for seed 1 alone).
+TEST(GlossyShooting, SquareLightsImageAgreesWithGatheringAsGatheringWithItself) {
   const std::string text = threeSquareLights();
   hr::SolverOptions o = hr::SolverOptions::from(hr::parseScene(text, "").settings);
   o.eps = 1e-4;  // where the figures above were measured (the scene's eps until it became 4e-5)
-  auto run = [&](hr::Iteration it) {
+  auto run = [&](hr::Iteration it, std::uint32_t seed) {
     o.iteration = it;
+    o.seed = seed;
     Solve r;
     r.ext = make("is");
     r.solved = testutil::solveText(text, o, r.ext.get());
@@ -158,12 +162,15 @@ TEST(GlossyShooting, SquareLightsImageAgreesWithGatheringWithinOnePercent) {
     r.image = hr::render(sol, sol.cameras.front(), r.ext.get());
     return r;
   };
-  Solve g = run(hr::Iteration::Gather), s = run(hr::Iteration::Shoot);
+  Solve g = run(hr::Iteration::Gather, 1), s = run(hr::Iteration::Shoot, 1), g2 = run(hr::Iteration::Gather, 2);
   ASSERT_TRUE(s.solved.stats.converged);
   ref::Metrics m = lightsMasked(s, g);
-  std::printf("three square lights (eps %g): shoot vs gather rel RMSE %.4f, mean ratio %.4f; elements %zu vs %zu\n", o.eps,
-              m.relRmse, m.meanRatio, s.solved.h->elements().size(), g.solved.h->elements().size());
-  EXPECT_LT(m.relRmse, 0.01);
+  const double self = lightsMasked(g2, g).relRmse;
+  std::printf("three square lights (eps %g): shoot vs gather rel RMSE %.4f (gathering vs itself, seed 2: %.4f), mean "
+              "ratio %.4f; elements %zu vs %zu\n",
+              o.eps, m.relRmse, self, m.meanRatio, s.solved.h->elements().size(), g.solved.h->elements().size());
+  EXPECT_LT(m.relRmse, 1.3 * self);
+  EXPECT_LT(m.relRmse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.005);
 }
 

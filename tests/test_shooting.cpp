@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "helpers.h"
 
@@ -55,6 +57,53 @@ TEST(Shooting, AgreesWithGatheringOnTheCornellBox) {
   for (const auto* r : {&g, &s})
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR((r->stats.absorbedW[c] + r->stats.escapedW[c]) / r->stats.emittedW[c], 1.0, 0.01) << "channel " << c;
+}
+
+/// The floor's (object 0, the plane y = 0 over [0, 2]^2) leaf radiosity (green, W/m^2) at an n x n
+/// grid of cell centres; -1 where the leaf is wholly covered (under a block).
+std::vector<double> floorGrid(const testutil::Solved& r, int n) {
+  std::vector<double> v(std::size_t(n) * n, -1.0);
+  for (std::uint32_t i = 0; i < r.h->elements().size(); ++i) {
+    const auto& e = r.h->element(i);
+    if (!e.leaf() || r.h->patches()[e.patch].object != 0 || !(r.solver->openFraction()[i] > 0.0f)) continue;
+    double x0 = 1e9, x1 = -1e9, z0 = 1e9, z1 = -1e9;
+    for (int k = 0; k < e.poly.n; ++k)
+      x0 = std::min(x0, e.poly.v[k].x), x1 = std::max(x1, e.poly.v[k].x), z0 = std::min(z0, e.poly.v[k].z),
+      z1 = std::max(z1, e.poly.v[k].z);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const double x = 2.0 * (a + 0.5) / n, z = 2.0 * (b + 0.5) / n;
+        if (x >= x0 && x < x1 && z >= z0 && z < z1) v[std::size_t(a) * n + b] = r.solver->radiosity()[i][1];
+      }
+  }
+  return v;
+}
+
+// The oracle must refine a lamp's shadows the same way whichever links reach the lamp first.
+// Gathering reaches it from the root cluster's self-link after its links to the walls have split it;
+// shooting reaches it from the lamp alone. The shadow term held only leaf senders to it, so the floor
+// took it under shooting and not under gathering: the floor's direct light stopped at elements four
+// times as wide, and the two schemes' first passes (direct light alone) were 9.4 % apart over the
+// floor (RMS over a 128 x 128 grid, relative to the mean; seen failing), 1.2 % with emitters held to
+// it too.
+TEST(Shooting, ALampsShadowsAreRefinedAlikeByBothSchemes) {
+  hr::SolverOptions o = testutil::options(2e-4, 6);
+  o.maxIterations = 1;
+  auto g = testutil::solveText(hr::kDefaultSceneJson, o);
+  auto s = testutil::solveText(hr::kDefaultSceneJson, shooting(o));
+  const int n = 128;
+  const std::vector<double> a = floorGrid(g, n), b = floorGrid(s, n);
+  double sq = 0.0, mean = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i] < 0.0 || b[i] < 0.0) continue;
+    sq += (a[i] - b[i]) * (a[i] - b[i]), mean += a[i], ++count;
+  }
+  ASSERT_GT(count, n * n / 2);
+  mean /= count;
+  const double rms = std::sqrt(sq / count) / mean;
+  std::printf("Cornell box floor, direct light: gathering vs shooting %.4f (RMS / mean)\n", rms);
+  EXPECT_LT(rms, 0.04);
 }
 
 TEST(Shooting, AgreesWithGatheringAndTheClosedFormInTheFurnace) {

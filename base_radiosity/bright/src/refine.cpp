@@ -238,12 +238,17 @@ constexpr double kShadowFloor = 1.0 / 1024.0;
 /// VISION-like host counts it. Held to the threshold scaled by the receiver's share of the scene's
 /// area (at least kShadowFloor), as that host holds it: by power alone a floor element of 1/600 of
 /// the scene kept a sphere's shadow on floor_gloss blurred at any eps (0.261 of the image, 0.120
-/// with this term). V is the first trace's (seenPartly). Leaf senders only: from inner senders too
-/// it took 2-3 times the links (the Cornell box 0.19 -> 0.51 M) for no measured gain.
+/// with this term). V is the first trace's (seenPartly). Leaf senders and emitters only: from every
+/// inner sender it took 2-3 times the links (the Cornell box 0.19 -> 0.51 M) for no measured gain.
+/// An emitter's inner elements are held to it all the same, because whether a lamp element is still
+/// a leaf depends on what other links did first, not on the shadow: gathering reached the lamp from
+/// the root cluster's self-link after its links to the walls had split it, so the floor's shadows took
+/// no term and stopped at a quarter of the leaf size shooting reached from the lamp alone (the
+/// Cornell box's direct light: the schemes 4.1 % apart, 0.45 % now; docs/solver.md).
 double shadowError(const SolverState& s, Link& l, const SenderLuminance& value, double threshold, double* limit) {
   *limit = threshold;
-  if (!s.shadows || l.receiver.isCluster() || l.sender.isCluster() || !s.h.element(l.sender.index()).leaf() ||
-      !(l.bound > 0.0f))
+  if (!s.shadows || l.receiver.isCluster() || l.sender.isCluster() || !(l.bound > 0.0f) ||
+      !(s.h.element(l.sender.index()).leaf() || s.emits(l.sender)))
     return 0.0;
   *limit = perArea(s, l, threshold, kShadowFloor);
   const double unoccluded = catchingArea(s, l) * value() * double(l.bound);
