@@ -243,7 +243,7 @@ constexpr double kShadowFloor = 1.0 / 1024.0;
 /// An emitter's inner elements are held to it all the same, because whether a lamp element is still
 /// a leaf depends on what other links did first, not on the shadow: gathering reached the lamp from
 /// the root cluster's self-link after its links to the walls had split it, so the floor's shadows took
-/// no term and stopped at a quarter of the leaf size shooting reached from the lamp alone (the
+/// no term and stopped at leaves four times as wide as shooting reached from the lamp alone (the
 /// Cornell box's direct light: the schemes 4.1 % apart, 0.45 % now; docs/solver.md).
 double shadowError(const SolverState& s, Link& l, const SenderLuminance& value, double threshold, double* limit) {
   *limit = threshold;
