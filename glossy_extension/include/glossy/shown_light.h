@@ -8,10 +8,10 @@
 // point (still images' curved leaves, per pixel; not display vertices, where it would cost a cell
 // integral each and alias) adds, inside the one cell it reads, their reflection at the point and
 // normal it shows, the source integrated over its disk and re-aimed from that point, minus that
-// cell's mean of the same samples' lobes as the solve deposited them. Over every cell the addition averages to the sources' exact reflection
-// instead of their deposited lobes, so the display's light per cell stays the solution's and a
-// highlight takes the source's shape (floor_gloss's shiny sphere: docs/glossy.md, "Highlights at
-// display"). The solve itself never reads these samples.
+// cell's mean of the same samples' lobes as the solve deposited them. Over every cell the addition
+// averages to the sources' exact reflection instead of their deposited lobes, so the display's light
+// per cell stays the solution's and a highlight takes the source's shape (floor_gloss's shiny sphere:
+// docs/glossy.md, "Highlights at display"). The solve itself never reads these samples.
 #pragma once
 #include <glossy/frame.h>
 #include <glossy/spherical_geometry.h>
