@@ -4,12 +4,16 @@
 #include <glossy/cell_rules.h>
 #include <glossy/haar_lobes.h>
 #include <glossy/lobe_level.h>
+#include <glossy/phong_power.h>
 #include <glossy/reflection.h>
 #include <glossy/shown_light.h>
 #include <glossy/sphere.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <unordered_map>
 
 namespace glossy {
 
@@ -55,6 +59,7 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
   std::vector<Group> groups;
   std::vector<ShownLight::Sample> out;
   auto centreOf = [](const ShownLight::Sample& x) { return Vec3(x.from) + double(x.distance) * Vec3(x.toSender); };
+  const double cosReach = std::cos(reach);
   for (std::size_t i = 0; i < v.size(); ++i) {
     const ShownLight::Sample& x = v[i];
     if (x.senderNormal == glm::vec3(0.0f) || !(x.distance > 0.0f) || i >= std::size_t(kMaxPieces)) {
@@ -65,11 +70,13 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
     Group* best = nullptr;
     double nearest = 0.0;  // the least angle to a group's centre, rad
     for (Group& g : groups) {
+      // The direction first: a leaf's pieces spread over a wall make many groups, most of them far
+      // off (the VISION-like glossy furnace spent a tenth of its solve in this loop).
+      const double cosine = glm::dot(g.toward, Vec3(x.toSender));
+      if (cosine < cosReach) continue;  // cheap rejection before the exact angle
       const ShownLight::Sample& f = v[g.pieces.front()];
       if (f.from != x.from || f.normal != x.normal || glm::dot(f.senderNormal, x.senderNormal) < 0.9999f) continue;
       if (std::abs(glm::dot(Vec3(f.senderNormal), c - centreOf(f))) > 1e-3 * double(x.distance)) continue;  // another plane
-      const double cosine = glm::dot(g.toward, Vec3(x.toSender));
-      if (cosine < std::cos(reach)) continue;  // cheap rejection before the exact angle
       const double past = std::atan2(glm::length(glm::cross(g.toward, Vec3(x.toSender))), cosine);
       if (past > reach) continue;
       if (!best || past < nearest) nearest = past, best = &g;
@@ -154,6 +161,23 @@ void keepJoined(std::vector<ShownLight::Sample>& v, double total, double exponen
 // widths across shows its shape (each direction is one cos^n evaluation per shown point).
 constexpr int kDiskPoints = 32;
 
+/// sunflowerPoint's radius over r, cosine and sine for each of the kDiskPoints, computed once (per
+/// pixel and source they cost a sine and a cosine each); r times them gives sunflowerPoint's bits.
+struct DiskPoint {
+  double radius, cos, sin;
+};
+const std::array<DiskPoint, kDiskPoints>& diskPoints() {
+  static const std::array<DiskPoint, kDiskPoints> table = [] {
+    std::array<DiskPoint, kDiskPoints> t{};
+    for (int j = 0; j < kDiskPoints; ++j) {
+      const double phi = 2.399963229728653 * j;
+      t[std::size_t(j)] = {std::sqrt((j + 0.5) / kDiskPoints), std::cos(phi), std::sin(phi)};
+    }
+    return t;
+  }();
+  return table;
+}
+
 /// The lobe cos^n(alpha) about a direction at cos(alpha) = a from the mirror direction, averaged over a
 /// disk of directions of squared angular radius rho2 about it, to second order: times
 /// 1 + (rho2 / 8) Laplacian / value = 1 + (rho2 / 8)(n (n - 1) tan^2 - 2 n). At its centre alone a
@@ -161,11 +185,11 @@ constexpr int kDiskPoints = 32;
 /// of the lobe's width, shone 1.2 % bright at its highlight (ShownLight.ASmallSourcesHighlightIsTheLobesMeanOverItsDisk).
 /// (Per point of a wider source's disk it changed nothing: their error, 0.4-1.2 % of the peak at
 /// 0.25-0.75 lobe widths, is not the points' own curvature.)
-double lobeOverDisk(double a, double n, double rho2) {
+double lobeOverDisk(double a, const PhongPower& power, double rho2) {
   a = std::min(a, 1.0);
   if (!(a > 0.0)) return 0.0;
-  const double tan2 = (1.0 - a * a) / (a * a);
-  return std::pow(a, n) * std::max(0.0, 1.0 + rho2 / 8.0 * (n * (n - 1.0) * tan2 - 2.0 * n));
+  const double n = power.exponent(), tan2 = (1.0 - a * a) / (a * a);
+  return power(a) * std::max(0.0, 1.0 + rho2 / 8.0 * (n * (n - 1.0) * tan2 - 2.0 * n));
 }
 
 }  // namespace
@@ -212,7 +236,9 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
   return out;
 }
 
-Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega) {
+namespace {
+
+Rgb cellMeanNow(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega) {
   if (!(omega > 0.0)) return Rgb(0.0);
   // Each sample's lobes as its leaf deposited them (about that leaf's normal), turned into this frame.
   LobeSet lobes;
@@ -236,9 +262,63 @@ Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int leve
   return integrateLobesInCell(lobes, s.level, level, index, evaluations) / omega;
 }
 
+/// shownCellMean's memo: a still image asks it once per pixel sample of a shown leaf, for the few
+/// cells the leaf's pixels see (glossy_sphere on the VISION-like host at --max-level 2: 10.5 s of
+/// render, most of it these lobes made and integrated again per pixel). Keyed by the shown light's
+/// identity and the cell, the leaf's frame and area checked on a hit (a shown light handed to
+/// children serves leaves of other areas); per thread, so no lock; cleared when full.
+struct CellMeanMemo {
+  struct Key {
+    std::uint64_t shown, index;
+    int level;
+    bool operator==(const Key&) const = default;
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      return std::hash<std::uint64_t>()(k.shown * 0x9E3779B97F4A7C15ull ^ k.index * 0xC2B2AE3D27D4EB4Full ^ std::uint64_t(k.level));
+    }
+  };
+  struct Entry {
+    Frame frame;
+    double area, omega;
+    Rgb value;
+  };
+  static constexpr std::size_t kMaxEntries = std::size_t(1) << 16;
+  std::unordered_map<Key, Entry, Hash> map;
+};
+
+bool sameFrame(const Frame& a, const Frame& b) { return a.u == b.u && a.v == b.v && a.n == b.n; }
+
+}  // namespace
+
+Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega) {
+  thread_local CellMeanMemo memo;
+  const CellMeanMemo::Key key{s.identity.value(), index, level};
+  if (auto it = memo.map.find(key); it != memo.map.end()) {
+    const CellMeanMemo::Entry& e = it->second;
+    if (e.area == area && e.omega == omega && sameFrame(e.frame, frame)) return e.value;
+  }
+  const Rgb value = cellMeanNow(s, frame, area, level, index, omega);
+  if (memo.map.size() >= CellMeanMemo::kMaxEntries) memo.map.clear();
+  memo.map.insert_or_assign(key, CellMeanMemo::Entry{frame, area, omega, value});
+  return value;
+}
+
+std::uint64_t Identity::next() {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
 Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye) {
   const Rgb f = s.specular * ((s.exponent + 2.0) / (2.0 * kPi));
   const double width = lobeWidth(s.exponent);
+  // The lobe's reach: below this cosine to its axis cos^n < 1e-15 (of its peak, f e), so a disk whose
+  // reflection lies wholly outside it adds nothing an image keeps (float radiance has 24 bits). Most
+  // of a shiny sphere's pixels see no highlight: evaluated there, the disks' directions were 95 % of
+  // a glossy still's render (glossy_sphere on the VISION-like host at --max-level 2: 10.5 s to render
+  // after a 1.0 s solve).
+  const double reach = std::pow(1e-15, 1.0 / std::max(s.exponent, 1.0));
+  const PhongPower power(s.exponent);  // cos^n by squaring: std::pow per direction was most of what is left
   Rgb sum(0.0);
   for (const ShownLight::Sample& smp : s.samples) {
     // Re-aimed from x: the sender's centre where its distance is known, else the same direction.
@@ -270,22 +350,27 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
     const Rgb e = in.irradiance * (std::clamp(scale, 0.25, 4.0) * sender);
     const double seen = d > 0.0 && in.radius > 0.0 ? in.radius / d : 0.0;
     if (!(seen > 0.25 * width)) {
-      sum += f * e * lobeOverDisk(glm::dot(mirror(wi, n), toEye), s.exponent, seen * seen);
+      sum += f * e * lobeOverDisk(glm::dot(mirror(wi, n), toEye), power, seen * seen);
       continue;
     }
     // The sender's disk, evenly bright: directions on a sunflower over it, each carrying irradiance
     // in proportion to its cosine at x (equal solid angles); those below x's horizon send nothing.
-    const double r = std::tan(std::min(seen, 1.2));
+    // Its directions lie within `spread` of wi, so their mirrors within it of wi's: none reaches
+    // toEye's lobe when the nearest of them, spread nearer than wi's mirror, is beyond the reach.
+    const double spread = std::min(seen, 1.2), a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
+    if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach) continue;
+    const double r = std::tan(spread);
     Vec3 u, v;
     orthonormalBasis(wi, u, v);
     double weights = 0.0, lit = 0.0;
     for (int j = 0; j < kDiskPoints; ++j) {
-      const Vec3 dj = glm::normalize(wi + sunflowerPoint(u, v, r, j, kDiskPoints));
+      const DiskPoint& q = diskPoints()[std::size_t(j)];
+      const Vec3 dj = glm::normalize(wi + (r * q.radius) * (q.cos * u + q.sin * v));
       const double c = glm::dot(n, dj);
       if (!(c > 0.0)) continue;
       weights += c;
       const double a = glm::dot(mirror(dj, n), toEye);
-      if (a > 0.0) lit += c * std::pow(std::min(a, 1.0), s.exponent);
+      lit += c * power(a);
     }
     if (weights > 0.0) sum += f * e * (lit / weights);
   }

@@ -17,6 +17,7 @@
 #include <glossy/spherical_geometry.h>
 #include <hr/extension.h>
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -31,6 +32,23 @@ inline constexpr double kShownWidth = 2.0;  // the widest source kept, in lobe w
 inline constexpr double kMergeWidths[] = {0.125, 0.25, 0.5};
 inline constexpr int kMaxPieces = 256;  // the brightest samples looked at for joining
 inline constexpr double kPieceShare = kShownShare / 16.0;  // the least share a piece to be joined brings
+
+/// A number no other object of its kind had in this process, drawn anew by every copy: a memo keyed
+/// by it (shownCellMean's) can never read a freed object's entry through a reused address.
+class Identity {
+ public:
+  Identity() : value_(next()) {}
+  Identity(const Identity&) : value_(next()) {}
+  Identity& operator=(const Identity&) {
+    value_ = next();
+    return *this;
+  }
+  std::uint64_t value() const { return value_; }
+
+ private:
+  static std::uint64_t next();
+  std::uint64_t value_;
+};
 
 struct ShownLight {
   /// A sample as a leaf received it: aimed from `from` (m, that leaf's centre), its irradiance on the
@@ -50,6 +68,7 @@ struct ShownLight {
   double exponent = 1.0;        // the Phong exponent the leaf reflected with
   int level = 0;               // the Haar level the leaf's lobes were integrated at (its finest)
   int senderPoints = 0;         // makeLobes' senderPoints
+  Identity identity;            // filled once, then read only (shared as const)
 };
 
 /// The brightest of a leaf's samples as its ShownLight, or null when none qualifies (no light, or a
@@ -67,7 +86,7 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
 
 /// Mean intensity (W/sr) over the upper Haar cell (level, index) of a leaf's frame of the shown
 /// samples' lobes as the solve deposited them (each about its receiving leaf's normal), for a leaf of
-/// this frame and area (m^2).
+/// this frame and area (m^2). Remembered per thread for the display's next pixel in that cell.
 Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int level, std::uint64_t index, double omega);
 
 /// Radiance (W/(m^2 sr)) toward unit toEye of the shown samples reflected at point x (m) of a
