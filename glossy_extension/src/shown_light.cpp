@@ -283,7 +283,7 @@ struct CellMeanMemo {
     double area, omega;
     Rgb value;
   };
-  static constexpr std::size_t kMaxEntries = std::size_t(1) << 16;
+  static constexpr std::size_t kMaxEntries = std::size_t(1) << 12;
   std::unordered_map<Key, Entry, Hash> map;
 };
 
