@@ -209,7 +209,10 @@ TEST(MemoryBudget, AGlossySolvesDirectionalDetailFollowsTheBudget) {
   // steering the 60 MB run peaked at 2.1 x (levels raised with the threshold, outputs not counted),
   // and at 1.22 x while the lobe memo kept its default bound (it filled late, after refinement stopped).
   ASSERT_EQ(testutil::runCli(solve + "--memory-mb 60 -o " + dir + "/tight", out), 0) << out;
-  ASSERT_EQ(testutil::runCli(solve + "--memory-mb 150 -o " + dir + "/ample", out), 0) << out;
+  // The ample budget well past where level 3 is taken: the budget reads resident memory, which moves
+  // from run to run, and at 150 MB level 3 was taken in 5 of 8 runs (2 in the other 3, as the tight
+  // run's: a fresh clone's CI failed on it); at 200 and 250 MB in every run (3 and 9 runs), 15-17 s.
+  ASSERT_EQ(testutil::runCli(solve + "--memory-mb 250 -o " + dir + "/ample", out), 0) << out;
   const nlohmann::json tight = stats(dir + "/tight"), ample = stats(dir + "/ample");
   const double level = tight["extension"]["dir_max_level_used"].get<double>();
   // At most one level above --dir-min-level 1 at the start (eps 1e-2) and one more per factor 4 below it.
