@@ -161,18 +161,11 @@ void keepJoined(std::vector<ShownLight::Sample>& v, double total, double exponen
 // widths across shows its shape (each direction is one cos^n evaluation per shown point).
 constexpr int kDiskPoints = 32;
 
-/// sunflowerPoint's radius over r, cosine and sine for each of the kDiskPoints, computed once (per
-/// pixel and source they cost a sine and a cosine each); r times them gives sunflowerPoint's bits.
-struct DiskPoint {
-  double radius, cos, sin;
-};
-const std::array<DiskPoint, kDiskPoints>& diskPoints() {
-  static const std::array<DiskPoint, kDiskPoints> table = [] {
-    std::array<DiskPoint, kDiskPoints> t{};
-    for (int j = 0; j < kDiskPoints; ++j) {
-      const double phi = 2.399963229728653 * j;
-      t[std::size_t(j)] = {std::sqrt((j + 0.5) / kDiskPoints), std::cos(phi), std::sin(phi)};
-    }
+/// The kDiskPoints' sunflower steps, computed once.
+const std::array<SunflowerStep, kDiskPoints>& diskPoints() {
+  static const std::array<SunflowerStep, kDiskPoints> table = [] {
+    std::array<SunflowerStep, kDiskPoints> t{};
+    for (int j = 0; j < kDiskPoints; ++j) t[std::size_t(j)] = sunflowerStep(j, kDiskPoints);
     return t;
   }();
   return table;
@@ -312,13 +305,13 @@ std::uint64_t Identity::next() {
 Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye) {
   const Rgb f = s.specular * ((s.exponent + 2.0) / (2.0 * kPi));
   const double width = lobeWidth(s.exponent);
+  const PhongPower power(s.exponent);  // cos^n by squaring: std::pow per direction was most of what is left
   // The lobe's reach: below this cosine to its axis cos^n < 1e-15 (of its peak, f e), so a disk whose
   // reflection lies wholly outside it adds nothing an image keeps (float radiance has 24 bits). Most
   // of a shiny sphere's pixels see no highlight: evaluated there, the disks' directions were 95 % of
   // a glossy still's render (glossy_sphere on the VISION-like host at --max-level 2: 10.5 s to render
   // after a 1.0 s solve).
-  const double reach = std::pow(1e-15, 1.0 / std::max(s.exponent, 1.0));
-  const PhongPower power(s.exponent);  // cos^n by squaring: std::pow per direction was most of what is left
+  const double reach = std::sqrt(power.cutoff());  // cos^n = 1e-15 there (the square root of its 1e-30)
   Rgb sum(0.0);
   for (const ShownLight::Sample& smp : s.samples) {
     // Re-aimed from x: the sender's centre where its distance is known, else the same direction.
@@ -364,8 +357,7 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
     orthonormalBasis(wi, u, v);
     double weights = 0.0, lit = 0.0;
     for (int j = 0; j < kDiskPoints; ++j) {
-      const DiskPoint& q = diskPoints()[std::size_t(j)];
-      const Vec3 dj = glm::normalize(wi + (r * q.radius) * (q.cos * u + q.sin * v));
+      const Vec3 dj = glm::normalize(wi + sunflowerPoint(u, v, r, diskPoints()[std::size_t(j)]));
       const double c = glm::dot(n, dj);
       if (!(c > 0.0)) continue;
       weights += c;

@@ -297,9 +297,9 @@ TEST(ShownLight, ALeafLitEvenlyOrByAWideSenderKeepsNone) {
 TEST(ShownLight, ARememberedCellMeanIsTheLeafsOwn) {
   // shownCellMean remembers its answers per thread (a still image asks per pixel). What it returns
   // must be what it would compute: the mean is linear in the leaf's area and in the samples'
-  // irradiance, and turns with the leaf's frame. Asked first for one leaf, then for a leaf twice as
-  // large, a turned one, and a copy of the shown light three times as bright (a copy is another
-  // shown light), each answer is the fresh one's. Seen failing with the area left out of the memo's
+  // irradiance, and turns with the leaf's frame. Asked first for one leaf, then for a copy of the
+  // shown light three times as bright (a copy is another shown light), a leaf twice as large and a
+  // turned one, each answer is the fresh one's. Seen failing with the area left out of the memo's
   // check (1 instead of 2) and with a copy keeping its original's identity (1 instead of 3).
   std::vector<hr::IncidentSample> s = {pointSource(testhost::around(Vec3(0, 0, 1), 0.5, 0.2), kE, 2.0),
                                        pointSource(testhost::around(Vec3(0, 0, 1), 0.7, 2.5), 0.5 * kE, 1.5)};
