@@ -66,16 +66,25 @@ constexpr double kFarReach = 0.2, kMidReach = 0.3;
 /// lit the Cornell box's short block 0.4 % too much (mean of three seeds). val, blocked: the rays'
 /// kernels (0 where not traced) and, for the traced ones in order, their outcomes.
 void childWeights(const Element& re, const Element& se, const std::array<Polygon, 4>& kids,
-                  const Vec3* xs, int nx, int points, const double* val, const bool* blocked, int K,
+                  const Vec3* xs, int nx, int points, bool far, const double* val, const bool* blocked, int K,
                   float* wkid) {
   double F[4] = {0, 0, 0, 0}, seen[4] = {0, 0, 0, 0}, vis[4] = {0, 0, 0, 0};
   Vec3 kc[4];
   double kr[4];
-  for (int q = 0; q < 4; ++q) kc[q] = kids[q].centroid(), kr[q] = kids[q].radius();
   points = std::min(points, nx);
-  for (int m = 0; m < points; ++m)
-    for (int q = 0; q < 4; ++q)
-      F[q] += pointPolygonFormFactor(xs[m * nx / points], re.normal, kids[q], se.normal, kc[q], kr[q]);
+  if (far) {
+    // Far apart, a child's form factor is its area times the point kernel at its area centroid, to
+    // within ((r_s + r_r) / d)^2 / 16 (a child's radius over d, squared): 16 contour integrals
+    // were most of a far link's own work, for shares that a quarter of a percent does not move.
+    for (int q = 0; q < 4; ++q) kc[q] = kids[q].areaCentroid(), kr[q] = kids[q].area();
+    for (int m = 0; m < points; ++m)
+      for (int q = 0; q < 4; ++q) F[q] += pointKernel(xs[m * nx / points], re.normal, kc[q], se.normal) * kr[q];
+  } else {
+    for (int q = 0; q < 4; ++q) kc[q] = kids[q].centroid(), kr[q] = kids[q].radius();
+    for (int m = 0; m < points; ++m)
+      for (int q = 0; q < 4; ++q)
+        F[q] += pointPolygonFormFactor(xs[m * nx / points], re.normal, kids[q], se.normal, kc[q], kr[q]);
+  }
   double all = 0.0, open = 0.0;
   for (int k = 0, j = 0; k < K; ++k) {
     if (val[k] <= 0.0) continue;
@@ -137,6 +146,10 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   // that the visible kernel weight of each child is known (see senderValue).
   const auto kidsPoly = se.poly.subdivide();
   const int perKid = (K + 3) / 4;
+  // Per polygon, not per ray: how sample() splits it, and each child's share of the kernel's weight.
+  const double reShare = re.poly.firstShare();
+  double kidShare[4], kidScale[4];
+  for (int q = 0; q < 4; ++q) kidShare[q] = kidsPoly[q].firstShare(), kidScale[q] = 4.0 * kidsPoly[q].area() / se.area;
   Vec3 ends[kMaxRays], xs[kMaxRays];
   int n = 0;
   // A receiver partly under a coplanar patch (coplanar.h; a floor element at a box's foot): its
@@ -149,7 +162,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   double openF = 0.0;
   int openRays = 0, nx = 0;
   for (int k = 0; k < K; ++k) {
-    Vec3 x = re.poly.sample((k + rr.uniform()) / K, rr.uniform());
+    Vec3 x = re.poly.sample((k + rr.uniform()) / K, rr.uniform(), reShare);
     if (partly) {
       for (int t = 1; t < kOpenTries && s.vis.coverOf(re.patch, x) != kNone; ++t)
         x = re.poly.sample(rr.uniform(), rr.uniform());
@@ -161,10 +174,9 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
       ++openRays;
     }
     xs[nx++] = x;  // the receiver points childWeights averages over
-    const Polygon& kid = kidsPoly[k % 4];
-    Vec3 y = kid.sample((k / 4 + rs.uniform()) / perKid, rs.uniform());
+    Vec3 y = kidsPoly[k % 4].sample((k / 4 + rs.uniform()) / perKid, rs.uniform(), kidShare[k % 4]);
     ends[k] = y;
-    val[k] = pointKernel(x, re.normal, y, se.normal) * (4.0 * kid.area() / se.area);
+    val[k] = pointKernel(x, re.normal, y, se.normal) * kidScale[k % 4];
     if (val[k] > 0.0 && s.vis.coverOf(se.patch, y) != kNone) {
       // A sender end under a coplanar patch is hidden: a blocked ray without tracing it.
       from[n] = to[n] = Vec3(0.0);
@@ -203,7 +215,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
   // (emitters' 32) sixteen made the children's 64 point form factors most of three lights'
   // form-factor time at eps 3.5e-5 (its solve 0.50 -> 0.43 s).
   const int childPoints = reach < kFarReach ? kFarChildWeightPoints : kChildWeightPoints;
-  childWeights(re, se, kidsPoly, xs, nx, childPoints, val, blocked, K, l.wkid);
+  childWeights(re, se, kidsPoly, xs, nx, childPoints, reach < kFarReach, val, blocked, K, l.wkid);
   // Where the receiver sees each child: with the children's radiosity fits (push_pull.cpp) this
   // carries the same estimate, visible kernel over the ray ends, below the children's means.
   // Far apart (kMidReach), a child none of whose rays was blocked is seen whole, and its
