@@ -76,10 +76,11 @@ void childWeights(const Element& re, const Element& se, const std::array<Polygon
     // Far apart, a child's form factor is its area times the point kernel at its area centroid, up
     // to terms of second order in its radius over d (grazing views aside, where both are small):
     // 16 contour integrals were most of a far link's own work (images moved by 1.3e-6).
-    for (int q = 0; q < 4; ++q) kc[q] = kids[q].areaCentroid(), kr[q] = kids[q].area();
+    double area[4];
+    for (int q = 0; q < 4; ++q) kc[q] = kids[q].areaCentroid(), area[q] = kids[q].area();
     for (int m = 0; m < points; ++m)
       for (int q = 0; q < 4; ++q)
-        F[q] += pointKernel(xs[m * nx / points], re.normal, kc[q], se.normal) * kr[q];
+        F[q] += pointKernel(xs[m * nx / points], re.normal, kc[q], se.normal) * area[q];
   } else {
     for (int q = 0; q < 4; ++q) kc[q] = kids[q].centroid(), kr[q] = kids[q].radius();
     for (int m = 0; m < points; ++m)
@@ -169,7 +170,7 @@ RayCount evaluateElementLink(const SolverState& s, Link& l, Rng& rr, Rng& rs, in
     Vec3 x = re.poly.sample((k + rr.uniform()) / K, rr.uniform(), reShare);
     if (partly) {
       for (int t = 1; t < kOpenTries && s.vis.coverOf(re.patch, x) != kNone; ++t)
-        x = re.poly.sample(rr.uniform(), rr.uniform());
+        x = re.poly.sample(rr.uniform(), rr.uniform(), reShare);
       if (s.vis.coverOf(re.patch, x) != kNone) {
         val[k] = 0.0;
         continue;

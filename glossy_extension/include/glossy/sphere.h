@@ -28,9 +28,6 @@ inline void orthonormalBasis(const Vec3& w, Vec3& u, Vec3& v) {
   v = glm::cross(w, u);
 }
 
-/// Point j of count on a sunflower over the disk of radius r spanned by unit u and v: each the
-/// centre of an equal share of the disk's area (radius r sqrt((j + 1/2) / count), turned by the
-/// golden angle per point). Spreads a sender's disk into directions (reflection.cpp, shown_light.cpp).
 /// Point j of count at r = 1, as its radius and the cosine and sine of its turn: a caller that spreads
 /// many disks over the same count tabulates these once (a sine and a cosine per point per pixel were
 /// most of a glossy still's shown light; shown_light.cpp).
@@ -41,9 +38,13 @@ inline SunflowerStep sunflowerStep(int j, int count) {
   const double phi = 2.399963229728653 * j;
   return {std::sqrt((j + 0.5) / count), std::cos(phi), std::sin(phi)};
 }
+/// A tabulated step's point on the disk of radius r (the same bits as the overload below).
 inline Vec3 sunflowerPoint(const Vec3& u, const Vec3& v, double r, const SunflowerStep& s) {
   return (r * s.radius) * (s.cos * u + s.sin * v);
 }
+/// Point j of count on a sunflower over the disk of radius r spanned by unit u and v: each the
+/// centre of an equal share of the disk's area (radius r sqrt((j + 1/2) / count), turned by the
+/// golden angle per point). Spreads a sender's disk into directions (reflection.cpp, shown_light.cpp).
 inline Vec3 sunflowerPoint(const Vec3& u, const Vec3& v, double r, int j, int count) {
   return sunflowerPoint(u, v, r, sunflowerStep(j, count));
 }

@@ -4,6 +4,7 @@
 #include <hr/types.h>
 
 #include <array>
+#include <utility>
 
 namespace hr {
 
@@ -34,7 +35,7 @@ struct Polygon {
   /// a triangle's is (a^2 + b^2 + c^2) / 36 for sides a, b, c; a quad adds its two triangles'.
   double spread2() const {
     if (n == 3) return triSpread2(v[0], v[1], v[2]);
-    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0])), a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    const auto [a0, a1] = twiceTriangleAreas();
     if (a0 + a1 <= 0.0) return 0.0;
     Vec3 g0 = (v[0] + v[1] + v[2]) / 3.0, g1 = (v[0] + v[2] + v[3]) / 3.0, g = (a0 * g0 + a1 * g1) / (a0 + a1);
     return (a0 * (triSpread2(v[0], v[1], v[2]) + glm::dot(g0 - g, g0 - g)) +
@@ -46,7 +47,7 @@ struct Polygon {
   /// The area centroid (the vertex mean for triangles; differs from it for non-parallelogram quads).
   Vec3 areaCentroid() const {
     if (n == 3) return centroid();
-    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0])), a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    const auto [a0, a1] = twiceTriangleAreas();
     if (a0 + a1 <= 0.0) return centroid();
     return (a0 * (v[0] + v[1] + v[2]) + a1 * (v[0] + v[2] + v[3])) / (3.0 * (a0 + a1));
   }
@@ -63,9 +64,13 @@ struct Polygon {
   /// The share of the area that sample() draws in the first triangle (v0 v1 v2): 1 for a triangle.
   double firstShare() const {
     if (n == 3) return 1.0;
-    double a0 = glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
-    double a1 = glm::length(glm::cross(v[2] - v[0], v[3] - v[0]));
+    const auto [a0, a1] = twiceTriangleAreas();
     return a0 / glm::max(a0 + a1, 1e-300);
+  }
+  /// Twice the areas of a quad's two triangles, (v0 v1 v2) and (v0 v2 v3).
+  std::pair<double, double> twiceTriangleAreas() const {
+    return {glm::length(glm::cross(v[1] - v[0], v[2] - v[0])),
+            glm::length(glm::cross(v[2] - v[0], v[3] - v[0]))};
   }
   static Vec3 sampleTri(const Vec3& a, const Vec3& b, const Vec3& c, double u, double w) {
     double s = std::sqrt(glm::clamp(u, 0.0, 1.0));
