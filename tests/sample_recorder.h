@@ -4,6 +4,7 @@
 #pragma once
 #include <hr/extension.h>
 
+#include <cmath>
 #include <mutex>
 #include <vector>
 
@@ -37,15 +38,30 @@ inline const char* kTiltedLampOverGlossyFloor = R"({
 inline const hr::Vec3 kTiltedLampNormal = glm::normalize(hr::Vec3(-1.0, -1.0, 0.0));
 
 /// Checks the recorded samples against the lamp: some name a sender normal, and every normal named
-/// is the lamp's (to float rounding), facing the receiver. Returns how many named it.
-inline std::size_t samplesNamingTheLamp(const SampleRecorder& r, std::size_t* wrong) {
+/// is the lamp's (to float rounding), facing the receiver, with a shape (hr/sender_shape.h) that is
+/// one of the lamp's pieces: its half-axis along one of the lamp's sides and in its plane, and its
+/// area the lamp's over a power of two (pieces split 1 -> 4 or 1 -> 2), within 1e-4. Returns how many
+/// named it; *wrong counts those with another normal, *misshapen those with another shape.
+inline std::size_t samplesNamingTheLamp(const SampleRecorder& r, std::size_t* wrong, std::size_t* misshapen) {
+  const hr::Vec3 sides[2] = {hr::Vec3(0, 0, 1), glm::normalize(hr::Vec3(-1, 1, 0))};
+  const double lampArea = 0.2 * 0.2 * std::sqrt(2.0);
   std::size_t named = 0;
   *wrong = 0;
+  *misshapen = 0;
   for (const hr::IncidentSample& s : r.seen) {
     if (s.senderNormal == glm::vec3(0.0f)) continue;
     ++named;
     const hr::Vec3 n(s.senderNormal);
     if (glm::length(n - kTiltedLampNormal) > 1e-5 || !(glm::dot(n, s.toSender) < 0.0)) ++*wrong;
+    const hr::Vec3 axis(s.senderShape.axis);
+    const double a = glm::length(axis), area = 4.0 * a * double(s.senderShape.halfWidth);
+    const double pieces = a > 0.0 ? lampArea / area : 0.0;
+    const double power = std::round(std::log2(std::max(pieces, 1e-300)));
+    auto along = [&](const hr::Vec3& side) {
+      return a > 0.0 && std::abs(glm::dot(axis / a, side)) > 1.0 - 1e-5;
+    };
+    const bool alongSide = along(sides[0]) || along(sides[1]);
+    if ((!alongSide || !(power >= 0.0) || std::abs(pieces / std::exp2(power) - 1.0) > 1e-4)) ++*misshapen;
   }
   return named;
 }

@@ -131,12 +131,13 @@ TEST(Hooks, ASampleNamesItsFlatSendersNormal) {
     o.iteration = it;
     testutil::SampleRecorder rec;
     auto s = testutil::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
-    std::size_t wrong = 0;
-    const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong);
-    std::printf("%s: %zu samples, %zu name the lamp's normal, %zu another\n", it == hr::Iteration::Gather ? "gather" : "shoot",
-                rec.seen.size(), named, wrong);
+    std::size_t wrong = 0, misshapen = 0;
+    const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong, &misshapen);
+    std::printf("%s: %zu samples, %zu name the lamp's normal, %zu another, %zu a shape not its pieces'\n",
+                it == hr::Iteration::Gather ? "gather" : "shoot", rec.seen.size(), named, wrong, misshapen);
     EXPECT_GT(named, 0u);
     EXPECT_EQ(wrong, 0u);
+    EXPECT_EQ(misshapen, 0u);
   }
 }
 

@@ -7,7 +7,8 @@
 // basis, no per-record tag) are refused by the host with the versions named: re-solve to update.
 // Version 3: after the distributions, the leaves' shown light (shown_light.h: the brightest
 // incident samples the display sharpens highlights with), so a rendered file shows what the solve
-// showed. Version 4: each shown sample also names its sender's normal (zero for none).
+// showed. Version 4: each shown sample also names its sender's normal (zero for none). Version 5:
+// and its sender's shape (hr/sender_shape.h: the half-axis, then the half-width; zero for none).
 #include <glossy/illumination_samples.h>
 #include <glossy/is_options.h>
 #include <glossy/serial.h>
@@ -175,16 +176,25 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
       const Vec3 from = readVec(in), normal = readVec(in), toSender = readVec(in), irradiance = readVec(in);
       const Vec3 senderNormal = readVec(in);
       const double distance = serial::readF64(in), radius = serial::readF64(in);
+      const Vec3 axis = readVec(in);
+      const double halfWidth = serial::readF64(in);
+      const double axisLength = glm::length(axis);
+      // A shape lies in its sender's plane, and only a flat sender has one.
+      const bool inPlane =
+          senderNormal != Vec3(0.0) && std::abs(glm::dot(axis, senderNormal)) <= 1e-3 * axisLength;
+      const bool shapeOk = hr::allFinite(axis) && axisLength < 1e30 && halfWidth >= 0.0 && halfWidth < 1e30 &&
+                           (axis == Vec3(0.0) ? halfWidth == 0.0 : inPlane);
       if (!hr::allFinite(from) || !hr::allFinite(normal) || std::abs(glm::length(normal) - 1.0) > 1e-6 ||
           !hr::allFinite(toSender) || std::abs(glm::length(toSender) - 1.0) > 1e-6 || !hr::allFinite(irradiance) ||
           !glm::all(glm::greaterThanEqual(irradiance, Rgb(0.0))) || !(distance >= 0.0) || !(distance < 1e30) ||
           !(radius >= 0.0) || !(radius < 1e30) || glm::any(glm::greaterThan(glm::abs(from), Vec3(1e30))) ||
           glm::any(glm::greaterThan(irradiance, Rgb(1e30))) || !hr::allFinite(senderNormal) ||
-          (senderNormal != Vec3(0.0) && std::abs(glm::length(senderNormal) - 1.0) > 1e-6))
+          (senderNormal != Vec3(0.0) && std::abs(glm::length(senderNormal) - 1.0) > 1e-6) || !shapeOk)
         refuse(where + ": sample " + std::to_string(j) + " out of range");
       y.from = glm::vec3(from), y.normal = glm::vec3(normal), y.toSender = glm::vec3(toSender);
       y.irradiance = glm::vec3(irradiance), y.distance = float(distance), y.radius = float(radius);
       y.senderNormal = glm::vec3(senderNormal);
+      y.senderShape = {glm::vec3(axis), float(halfWidth)};
       sh->samples.push_back(y);
     }
     table[index]->shown = std::move(sh);
@@ -226,7 +236,7 @@ void IlluminationSamples::save(std::ostream& sink) const {
       serial::writeU32(out, std::uint32_t(sh->senderPoints));
       for (const ShownLight::Sample& x : sh->samples)
         vec(Vec3(x.from)), vec(Vec3(x.normal)), vec(Vec3(x.toSender)), vec(Vec3(x.irradiance)), vec(Vec3(x.senderNormal)),
-            f64(x.distance), f64(x.radius);
+            f64(x.distance), f64(x.radius), vec(Vec3(x.senderShape.axis)), f64(x.senderShape.halfWidth);
     }
   };
   {

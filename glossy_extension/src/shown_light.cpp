@@ -2,6 +2,7 @@
 // cell mean of their lobes as the solve deposits them, and their reflection at a shown point.
 #include <glossy/brdf.h>
 #include <glossy/cell_rules.h>
+#include <glossy/gauss_legendre.h>
 #include <glossy/haar_lobes.h>
 #include <glossy/lobe_level.h>
 #include <glossy/phong_power.h>
@@ -25,15 +26,35 @@ bool usable(const hr::IncidentSample& s) {
          std::isfinite(s.distance) && std::isfinite(s.radius);
 }
 
+/// A host's shape for a flat sender, or none when it is not finite or not in the sender's plane.
+hr::SenderRectangle shapeOf(const hr::IncidentSample& s, const glm::vec3& senderNormal) {
+  const hr::SenderRectangle& r = s.senderShape;
+  if (senderNormal == glm::vec3(0.0f) || !hr::allFinite(Vec3(r.axis)) || !std::isfinite(r.halfWidth) ||
+      !(r.halfWidth >= 0.0f) || std::abs(glm::dot(r.axis, senderNormal)) > 1e-3f * glm::length(r.axis))
+    return {};
+  return r;
+}
+
 bool brighter(const ShownLight::Sample& a, const ShownLight::Sample& b) {
   return hr::luminance(Rgb(a.irradiance)) > hr::luminance(Rgb(b.irradiance));
+}
+
+/// A flat piece's own area covariance in its plane (m^2): its rectangle's, else the disk of its
+/// radius (IncidentSample::radius, a disk of spread2 (1 + c^2) about it, c the cosine at the sender).
+glm::dmat3 pieceMoments(const ShownLight::Sample& x) {
+  const Vec3 n(x.senderNormal);
+  if (x.senderShape.axis != glm::vec3(0.0f)) return hr::momentsOfRectangle(x.senderShape, n);
+  const double c = glm::dot(n, Vec3(x.toSender));
+  const double spread2 = double(x.radius) * double(x.radius) / (1.0 + c * c);
+  return 0.5 * spread2 * (glm::dmat3(1.0) - glm::outerProduct(n, n));
 }
 
 /// Pieces of one flat sender within `reach` (radians) of a group's centre as the leaf sees them,
 /// joined into one sample: their irradiance summed, about their luminance-weighted centre, with the
 /// second moment of all of them across the line of sight (so the disk they make is as wide as the
-/// pieces together). v comes brightest first; each piece goes into the group it fits nearest; only
-/// the brightest kMaxPieces are looked at (grouping is quadratic in them). A group that would be
+/// pieces together) and in the sender's plane (the rectangle they make: a lamp's quarters, the
+/// lamp). v comes brightest first; each piece goes into the group it fits nearest; only the
+/// brightest kMaxPieces are looked at (grouping is quadratic in them). A group that would be
 /// wider than `widest` times its distance (a shown sample's limit) keeps its pieces apart.
 void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest) {
   struct Group {
@@ -42,7 +63,8 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
     Rgb irradiance{0.0};              // W/m^2
     Vec3 sum{0.0};                    // luminance-weighted sums of the pieces' centres (m),
     glm::dmat3 outer{0.0};            // of their outer products (m^2)
-    double own = 0.0;                 // and of their own spread across the line of sight, r^2 / 2 (m^2)
+    double own = 0.0;                 // and of their own spread across the line of sight, r^2 / 2 (m^2),
+    glm::dmat3 ownMoments{0.0};       // and in the sender's plane (m^2)
     Vec3 toward{0.0};                 // unit, from the leaf to the group's centre
   };
   // The disk of a group's second moment across the line of sight from `from` (the centres' spread
@@ -92,6 +114,7 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
     best->sum += lum * c;
     best->outer += lum * glm::outerProduct(c, c);
     best->own += lum * 0.5 * double(x.radius) * double(x.radius);
+    best->ownMoments += lum * pieceMoments(x);
     const Vec3 to = best->sum / best->weight - Vec3(x.from);
     const double len = glm::length(to);
     best->toward = len > 0.0 ? to / len : Vec3(x.toSender);
@@ -110,6 +133,9 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
       x.distance = float(d);
       x.radius = float(radius);
       x.irradiance = glm::vec3(g.irradiance);
+      const Vec3 m = g.sum / g.weight;
+      const glm::dmat3 moments = g.outer / g.weight - glm::outerProduct(m, m) + g.ownMoments / g.weight;
+      x.senderShape = hr::rectangleOfMoments(moments, Vec3(x.senderNormal));
     }
     out.push_back(x);
   }
@@ -185,6 +211,45 @@ double lobeOverDisk(double a, const PhongPower& power, double rho2) {
   return power(a) * std::max(0.0, 1.0 + rho2 / 8.0 * (n * (n - 1.0) * tan2 - 2.0 * n));
 }
 
+// Gauss-Legendre points per axis of a shown source's rectangle: a source is at most kShownWidth lobe
+// widths across, over which the lobe falls smoothly (ShownLight.ARectangularSourcesHighlightIsItsShape).
+constexpr int kRectanglePoints = 6;
+
+/// The lobe cos^n about toEye's mirror, averaged over a flat rectangle (centre c, shape r, unit normal
+/// sn) as seen from x (normal n): each point weighted by the irradiance it sends to x, the cosines at
+/// x and at the sender over the squared distance. 0 when none of it is above x's horizon, or when the
+/// rectangle's directions, all within its half-diagonal of c's, stay beyond the lobe's reach.
+double lobeOverRectangle(const Vec3& c, const hr::SenderRectangle& r, const Vec3& sn, const Vec3& x,
+                         const Vec3& n, const Vec3& toEye, const PhongPower& power, double reach) {
+  static const auto rule = [] {
+    std::pair<std::vector<double>, std::vector<double>> t;
+    gaussLegendre(kRectanglePoints, t.first, t.second);
+    return t;
+  }();
+  const Vec3 a(r.axis), b = hr::rectangleSide(r.axis, sn) * double(r.halfWidth), to = c - x;
+  const double d = glm::length(to);
+  if (!(d > 0.0)) return 0.0;
+  const Vec3 wi = to / d;
+  const double spread = std::min(std::asin(std::min(1.0, (glm::length(a) + glm::length(b)) / d)), 1.2);
+  const double a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
+  if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach)
+    return 0.0;
+  double weights = 0.0, lit = 0.0;
+  for (int i = 0; i < kRectanglePoints; ++i)
+    for (int j = 0; j < kRectanglePoints; ++j) {
+      const Vec3 q = to + rule.first[std::size_t(i)] * a + rule.first[std::size_t(j)] * b;
+      const double q2 = glm::dot(q, q);
+      if (!(q2 > 0.0)) continue;
+      const Vec3 w = q / std::sqrt(q2);
+      const double cx = glm::dot(n, w), cs = -glm::dot(sn, w);
+      if (!(cx > 0.0) || !(cs > 0.0)) continue;
+      const double k = rule.second[std::size_t(i)] * rule.second[std::size_t(j)] * cx * cs / q2;
+      weights += k;
+      lit += k * power(glm::dot(mirror(w, n), toEye));
+    }
+  return weights > 0.0 ? lit / weights : 0.0;
+}
+
 }  // namespace
 
 std::shared_ptr<const ShownLight> keepShown(std::span<const hr::IncidentSample> samples, const Vec3& from,
@@ -201,9 +266,10 @@ std::shared_ptr<const ShownLight> keepShown(std::span<const hr::IncidentSample> 
         !(s.distance > 0.0 && s.radius > widest * s.distance)) {
       const float len = glm::length(s.senderNormal);
       const bool flat = std::isfinite(len) && std::abs(len - 1.0f) < 1e-3f;
+      const glm::vec3 senderNormal = flat ? s.senderNormal / len : glm::vec3(0.0f);
       out->samples.push_back({glm::vec3(glm::normalize(s.toSender)), glm::vec3(s.irradiance), glm::vec3(from),
-                              glm::vec3(normal), flat ? s.senderNormal / len : glm::vec3(0.0f), float(s.distance),
-                              float(s.radius)});
+                              glm::vec3(normal), senderNormal, float(s.distance), float(s.radius),
+                              shapeOf(s, senderNormal)});
     }
   keepJoined(out->samples, total, exponent);
   if (out->samples.empty()) return nullptr;
@@ -344,6 +410,12 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
     const double seen = d > 0.0 && in.radius > 0.0 ? in.radius / d : 0.0;
     if (!(seen > 0.25 * width)) {
       sum += f * e * lobeOverDisk(glm::dot(mirror(wi, n), toEye), power, seen * seen);
+      continue;
+    }
+    if (d > 0.0 && in.senderNormal != glm::vec3(0.0f) && in.senderShape.axis != glm::vec3(0.0f)) {
+      const Vec3 centre = Vec3(smp.from) + in.distance * in.toSender;
+      const Vec3 sn(in.senderNormal);
+      sum += f * e * lobeOverRectangle(centre, in.senderShape, sn, x, n, toEye, power, reach);
       continue;
     }
     // The sender's disk, evenly bright: directions on a sunflower over it, each carrying irradiance

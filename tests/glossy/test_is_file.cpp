@@ -34,9 +34,12 @@ struct Solved {
       std::vector<hr::IncidentSample> s;
       for (int k = 0; k < 4; ++k) {
         s.push_back(testhost::sample(testhost::around(n, std::acos(u(g)), 2 * kPi * u(g)), Rgb(u(g), 1.0, u(g))));
-        // A flat sender 2 m off facing the leaf askew: the shown light keeps its distance and normal.
-        s.back().distance = 2.0, s.back().radius = 0.01;
-        s.back().senderNormal = glm::vec3(-glm::normalize(s.back().toSender + 0.3 * testhost::around(n, 1.2, k)));
+        // A flat sender 2 m off facing the leaf askew, half of them 50 x 20 cm rectangles: the shown
+        // light keeps its distance, normal and shape.
+        s.back().distance = 2.0, s.back().radius = k % 2 ? 0.2 : 0.01;
+        const Vec3 sn = -glm::normalize(s.back().toSender + 0.3 * testhost::around(n, 1.2, k));
+        s.back().senderNormal = glm::vec3(sn);
+        if (k % 2) s.back().senderShape = {glm::vec3(0.25 * hr::rectangleSide(glm::vec3(n), sn)), 0.1f};
       }
       ext->reflect(leaf, s);
     }
@@ -152,23 +155,30 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   glossy::IlluminationSamples ext;
   expectRefusal(ext, "", saved, "truncated");
   expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
-  std::string v5 = body;
-  v5[4] = 5;  // the format version field
-  expectRefusal(ext, resealed(v5), saved, "format version 5, this build reads version 4");
-  // The shown light (last in the section): its last sample's radius made negative, and its sender's
-  // normal (the three values before distance and radius) made twice a unit.
+  std::string v6 = body;
+  v6[4] = 6;  // the format version field
+  expectRefusal(ext, resealed(v6), saved, "format version 6, this build reads version 5");
+  // The shown light (last in the section): its last sample ends with its sender's normal, distance,
+  // radius, shape's half-axis and half-width. The radius made negative, the normal twice a unit, the
+  // half-width negative, and the half-axis along the normal (out of the sender's plane).
   std::string radius = body;
   const double minusOne = -1.0, two = 2.0;
-  std::memcpy(&radius[radius.size() - 8], &minusOne, 8);
+  std::memcpy(&radius[radius.size() - 40], &minusOne, 8);
   expectRefusal(ext, resealed(radius), saved, "shown light: sample");
   std::string normal = body;
   for (int c = 0; c < 3; ++c) {
     double v;
-    std::memcpy(&v, &normal[normal.size() - 40 + 8 * c], 8);
+    std::memcpy(&v, &normal[normal.size() - 72 + 8 * c], 8);
     v *= two;
-    std::memcpy(&normal[normal.size() - 40 + 8 * c], &v, 8);
+    std::memcpy(&normal[normal.size() - 72 + 8 * c], &v, 8);
   }
   expectRefusal(ext, resealed(normal), saved, "shown light: sample");
+  std::string width = body;
+  std::memcpy(&width[width.size() - 8], &minusOne, 8);
+  expectRefusal(ext, resealed(width), saved, "shown light: sample");
+  std::string axis = body;
+  std::memcpy(&axis[axis.size() - 32], &axis[axis.size() - 72], 24);
+  expectRefusal(ext, resealed(axis), saved, "shown light: sample");
   std::string flag = body;
   flag[8] = 2;  // the automatic-basis flag: 0 or 1
   expectRefusal(ext, resealed(flag), saved, "bad automatic-basis flag 2");

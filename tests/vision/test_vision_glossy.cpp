@@ -98,17 +98,20 @@ TEST(VisionGlossy, EverySampleALeafReflectsPointsAtItsSenderFromThatLeaf) {
 
 TEST(VisionGlossy, ASampleNamesItsFlatSendersNormal) {
   // As on the other host (Hooks.ASampleNamesItsFlatSendersNormal): a tilted lamp's light reaches the
-  // glossy floor in samples that name the lamp's normal, or none (a cluster sender).
+  // glossy floor in samples that name the lamp's normal and the shape of one of its pieces, or none
+  // (a cluster sender).
   hr::SolverOptions o;
   o.eps = 1e-3;
   o.iteration = hr::Iteration::Shoot;
   testutil::SampleRecorder rec;
   visiontest::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
-  std::size_t wrong = 0;
-  const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong);
-  std::printf("%zu samples, %zu name the lamp's normal, %zu another\n", rec.seen.size(), named, wrong);
+  std::size_t wrong = 0, misshapen = 0;
+  const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong, &misshapen);
+  std::printf("%zu samples, %zu name the lamp's normal, %zu another, %zu a shape not one of its pieces\n",
+              rec.seen.size(), named, wrong, misshapen);
   EXPECT_GT(named, 0u);
   EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(misshapen, 0u);
 }
 
 TEST(VisionGlossy, ReflectionInLayersGivesTheWholeSampleListsAnswer) {

@@ -54,18 +54,24 @@ Geometry measure(const Surface& s, const Rect& r) {
   const double pa = r.du() * r.dv();
   Vec3 nsum(0.0), csum(0.0);
   double area = 0.0, second = 0.0;
+  const Vec3 mid = s.point(0.5 * (r.u0 + r.u1), 0.5 * (r.v0 + r.v1));
+  glm::dmat3 outer(0.0);  // about mid, for a flat sender's shape
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) {
       double u = r.u0 + kGauss[i] * r.du(), v = r.v0 + kGauss[j] * r.dv();
       double w = kWeight[i] * kWeight[j] * pa * s.jacobian(u, v);
       Vec3 p = s.point(u, v);
       area += w, csum += w * p, nsum += w * s.normal(u, v), second += w * glm::dot(p, p);
+      outer += w * glm::outerProduct(p - mid, p - mid);
     }
   g.area = area;
-  g.center = area > 0.0 ? csum / area : s.point(0.5 * (r.u0 + r.u1), 0.5 * (r.v0 + r.v1));
+  g.center = area > 0.0 ? csum / area : mid;
   g.spread2 = area > 0.0 ? std::max(0.0, second / area - glm::dot(g.center, g.center)) : 0.0;
   double nl = glm::length(nsum);
   g.normal = nl > 0.0 ? nsum / nl : Vec3(0.0);
+  if (s.planar() && area > 0.0 && g.normal != Vec3(0.0))
+    g.shape = hr::rectangleOfMoments(outer / area - glm::outerProduct(g.center - mid, g.center - mid),
+                                     g.normal);
 
   // Box, radius and cone from a grid (planar kinds: the outline's corners and polygon vertices).
   int mu, mv;

@@ -65,7 +65,7 @@ void chainSamples(const Chain* c, const Surface& sf, const Rect& r, const Vec3& 
     if (c->here)
       for (const ClusterSample& x : *c->here)
         if (double k = meanCosine(sf, r, x.toSender); k > 0.0) {
-          hr::IncidentSample s{x.toSender, x.Eperp * k, x.distance, x.radius, x.senderNormal};
+          hr::IncidentSample s{x.toSender, x.Eperp * k, x.distance, x.radius, x.senderNormal, x.senderShape};
           hr::aimFrom(s, c->centre, at);
           out.push_back(s);
         }

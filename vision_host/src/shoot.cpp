@@ -96,9 +96,11 @@ class Shot {
     if (r.e) {
       r.e->E += est.E;
       if (s_.owned(*r.e) && est.E != Rgb(0.0))
-        r.e->arrivals.push_back({est.toSender, est.E, est.distance, est.radius, est.senderNormal});
+        r.e->arrivals.push_back(
+            {est.toSender, est.E, est.distance, est.radius, est.senderNormal, est.senderShape});
     } else if (est.E != Rgb(0.0))
-      s_.samples[r.cluster].push_back({est.toSender, est.E, est.distance, est.radius, est.senderNormal});
+      s_.samples[r.cluster].push_back(
+          {est.toSender, est.E, est.distance, est.radius, est.senderNormal, est.senderShape});
   }
 
   struct Pending {

@@ -172,6 +172,7 @@ struct Estimate {
   double distance = 0.0;  // between the two centres, m
   double radius = 0.0;    // the sender's, as hr::IncidentSample::radius
   glm::vec3 senderNormal{0.0f};  // a flat element sender's, as hr::IncidentSample::senderNormal
+  hr::SenderRectangle senderShape;  // and its shape, as hr::IncidentSample::senderShape
   double unoccluded = 0.0;  // power it would bring without occlusion (luminance), W
   double V = 1.0;           // visible fraction
   double sigma = 0.0;       // standard error of V

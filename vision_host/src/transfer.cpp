@@ -180,7 +180,8 @@ Estimate estimate(const State& s, const Sender& snd, const Receiver& rc, Receive
   // A sender whose normals cancel (a whole sphere) is taken as a cluster is: seen square on.
   const double cosS = snd.cluster == hr::kNone && snd.g.normal != Vec3(0.0) ? glm::dot(snd.g.normal, est.toSender) : 1.0;
   est.radius = hr::senderDiskRadius(snd.g.spread2, cosS);
-  if (snd.cluster == hr::kNone && s.h.surfaces()[snd.e->surface].planar()) est.senderNormal = glm::vec3(snd.g.coneAxis);
+  if (snd.cluster == hr::kNone && s.h.surfaces()[snd.e->surface].planar())
+    est.senderNormal = glm::vec3(snd.g.coneAxis), est.senderShape = snd.g.shape;
   Rgb Eun(0.0);
   double catching = rg.area;
   if (snd.cluster == hr::kNone && rc.e) {

@@ -171,16 +171,17 @@ struct SolverState {
   double openArea(std::uint32_t e) const { return h.element(e).area * double(open[e]); }
   /// The Illumination Sample a link brought this iteration: its direction and irradiance, the
   /// distance between the centres, hr::senderDiskRadius of the sender (a cluster as a face seen square
-  /// on) and an element sender's normal (a cluster has none).
+  /// on) and an element sender's normal and shape (a cluster has none).
   IncidentSample sampleOf(const Link& l) const {
     IncidentSample out{Vec3(l.dir), Rgb(l.E), glm::length(h.center(l.sender) - h.center(l.receiver)), 0.0};
     if (l.sender.isCluster()) {
       out.radius = senderDiskRadius(h.spread2(l.sender), 1.0);
       return out;
     }
-    const Vec3& n = h.element(l.sender.index()).normal;
-    out.radius = senderDiskRadius(h.spread2(l.sender), glm::dot(n, Vec3(l.dir)));
-    out.senderNormal = glm::vec3(n);
+    const Element& e = h.element(l.sender.index());
+    out.radius = senderDiskRadius(h.spread2(l.sender), glm::dot(e.normal, Vec3(l.dir)));
+    out.senderNormal = glm::vec3(e.normal);
+    out.senderShape = e.shape;
     return out;
   }
   Rgb emitted(std::uint32_t e) const { return kPi * mat(e).emission; }

@@ -8,6 +8,7 @@
 // lives in the extension's own arrays indexed by NodeId.
 #pragma once
 #include <hr/host_view.h>
+#include <hr/sender_shape.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,10 @@ struct IncidentSample {
   // carries the irradiance to another point of the receiver needs the sender's foreshortening there
   // too (a tilted lamp 2 m off is 3 % brighter seen from 10 cm nearer its axis). Floats: hosts hold many.
   glm::vec3 senderNormal{0.0f};
+  // And its shape, where senderNormal is set: the rectangle of its second moments in its plane
+  // (hr/sender_shape.h; axis zero: none known, a disk of `radius`), so a highlight takes the source's
+  // shape. Only a display reads it.
+  SenderRectangle senderShape{};
 };
 
 /// IncidentSample::radius of a sender whose surface has mean squared distance spread2 (m^2) from its

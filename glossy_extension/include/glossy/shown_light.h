@@ -7,7 +7,8 @@
 // share or beyond the count, as a fine solution's lamp does), and a display view that names its
 // point (still images' curved leaves, per pixel; not display vertices, where it would cost a cell
 // integral each and alias) adds, inside the one cell it reads, their reflection at the point and
-// normal it shows, the source integrated over its disk and re-aimed from that point, minus that
+// normal it shows, the source integrated over its rectangle (a flat sender's shape, hr/sender_shape.h)
+// or its disk and re-aimed from that point, minus that
 // cell's mean of the same samples' lobes as the solve deposited them. Over every cell the addition
 // averages to the sources' exact reflection instead of their deposited lobes, so the display's light
 // per cell stays the solution's and a highlight takes the source's shape (floor_gloss's shiny sphere:
@@ -58,8 +59,9 @@ struct ShownLight {
     glm::vec3 toSender{0, 0, 1}, irradiance{0.0f}, from{0.0f}, normal{0, 0, 1};
     glm::vec3 senderNormal{0.0f};          // a flat sender's (hr::IncidentSample::senderNormal); 0: none
     float distance = 0.0f, radius = 0.0f;  // m; distance 0: unknown
+    hr::SenderRectangle senderShape;       // a flat sender's shape (hr::IncidentSample::senderShape)
     hr::IncidentSample in() const {
-      return {Vec3(toSender), Rgb(irradiance), double(distance), double(radius), senderNormal};
+      return {Vec3(toSender), Rgb(irradiance), double(distance), double(radius), senderNormal, senderShape};
     }
   };
   std::vector<Sample> samples;  // the brightest first
@@ -91,7 +93,8 @@ Rgb shownCellMean(const ShownLight& s, const Frame& frame, double area, int leve
 
 /// Radiance (W/(m^2 sr)) toward unit toEye of the shown samples reflected at point x (m) of a
 /// surface of unit normal n: each source re-aimed from x, its irradiance carried from its leaf's plane,
-/// distance and (a flat sender's) foreshortening to x's, and integrated over its disk.
+/// distance and (a flat sender's) foreshortening to x's, and integrated over its rectangle (a flat
+/// sender of known shape) or its disk.
 Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3& toEye);
 
 }  // namespace glossy

@@ -28,6 +28,7 @@ struct Geometry {
   hr::Aabb box;            // conservative (curvature margin included)
   Vec3 coneAxis{0.0, 0.0, 1.0};
   double coneAngle = 0.0;  // half-angle of the cone of normals, radians; pi: any direction
+  hr::SenderRectangle shape;  // a flat element's, as hr::IncidentSample::senderShape (else none)
 };
 
 /// Geometry of a parameter rectangle of a surface: quadrature for area, centroid and spread, a grid
@@ -78,6 +79,7 @@ struct ClusterSample {
   double distance = 0.0;  // to the sender's centre from the cluster's, m
   double radius = 0.0;    // the sender's, as hr::IncidentSample::radius
   glm::vec3 senderNormal{0.0f};  // as hr::IncidentSample::senderNormal
+  hr::SenderRectangle senderShape;  // as hr::IncidentSample::senderShape
 };
 
 class Hierarchy {

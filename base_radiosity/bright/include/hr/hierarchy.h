@@ -14,6 +14,7 @@ struct Element {
   Vec3 center{0.0};
   double area = 0.0;
   double radius = 0.0;
+  SenderRectangle shape;  // as a sender: its rectangle of second moments (IncidentSample::senderShape)
   std::uint32_t patch = 0;
   std::uint32_t parent = kNone;
   std::uint32_t firstChild = kNone;  // four contiguous children, or kNone for a leaf

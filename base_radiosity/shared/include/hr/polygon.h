@@ -44,6 +44,24 @@ struct Polygon {
   static double triSpread2(const Vec3& a, const Vec3& b, const Vec3& c) {
     return (glm::dot(b - a, b - a) + glm::dot(c - b, c - b) + glm::dot(a - c, a - c)) / 36.0;
   }
+  /// The area covariance about the area centroid, m^2 (a sender's shape, hr/sender_shape.h): exact,
+  /// from each triangle's integral of x x^T, (A / 12)(sum of v v^T + s s^T) with s the vertex sum,
+  /// taken about v0 so that far-off polygons keep their digits.
+  glm::dmat3 areaMoments() const {
+    glm::dmat3 m(0.0);
+    Vec3 first(0.0);
+    double total = 0.0;
+    for (int i = 1; i + 1 < n; ++i) {
+      const Vec3 b = v[i] - v[0], c = v[i + 1] - v[0], s = b + c;
+      const double a = 0.5 * glm::length(glm::cross(b, c));
+      m += (a / 12.0) * (glm::outerProduct(b, b) + glm::outerProduct(c, c) + glm::outerProduct(s, s));
+      first += (a / 3.0) * s;
+      total += a;
+    }
+    if (!(total > 0.0)) return glm::dmat3(0.0);
+    const Vec3 g = first / total;
+    return m / total - glm::outerProduct(g, g);
+  }
   /// The area centroid (the vertex mean for triangles; differs from it for non-parallelogram quads).
   Vec3 areaCentroid() const {
     if (n == 3) return centroid();
