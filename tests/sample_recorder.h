@@ -37,33 +37,43 @@ inline const char* kTiltedLampOverGlossyFloor = R"({
     { "type": "quad", "material": "lamp", "vertices": [[0.1,0.9,-0.1],[0.1,0.9,0.1],[-0.1,1.1,0.1],[-0.1,1.1,-0.1]] } ] })";
 inline const hr::Vec3 kTiltedLampNormal = glm::normalize(hr::Vec3(-1.0, -1.0, 0.0));
 
-/// Checks the recorded samples against the lamp: some name a sender normal, and every normal named
-/// is the lamp's (to float rounding), facing the receiver, with a shape (hr/sender_shape.h) that is
-/// one of the lamp's pieces: its half-axis along one of the lamp's sides and in its plane, and its
-/// area the lamp's over a power of two (pieces split 1 -> 4 or 1 -> 2), within 1e-4. Returns how many
-/// named it; *wrong counts those with another normal, *misshapen those with another shape.
-inline std::size_t samplesNamingTheLamp(const SampleRecorder& r, std::size_t* wrong, std::size_t* misshapen) {
+/// What the samples naming a sender normal say about the lamp.
+struct LampSamples {
+  std::size_t named = 0;      // name a sender normal
+  std::size_t wrong = 0;      // of them, another normal than the lamp's, or not facing the receiver
+  std::size_t misshapen = 0;  // of them, a shape that is none of the lamp's pieces
+  int finest = 0;             // the most halvings of a side seen in a piece
+};
+
+/// Checks the recorded samples against the lamp: every normal named is the lamp's (to float rounding),
+/// facing the receiver, with a shape (hr/sender_shape.h) that is one of the lamp's pieces: its
+/// half-axis along one of the lamp's sides and that side's length over 2^(p + 1), its half-width the
+/// other side's over 2^(q + 1), p and q whole (within 1e-4); with `quarters` (pieces split 1 -> 4 only)
+/// also p = q.
+inline LampSamples samplesNamingTheLamp(const SampleRecorder& r, bool quarters) {
   const hr::Vec3 sides[2] = {hr::Vec3(0, 0, 1), glm::normalize(hr::Vec3(-1, 1, 0))};
-  const double lampArea = 0.2 * 0.2 * std::sqrt(2.0);
-  std::size_t named = 0;
-  *wrong = 0;
-  *misshapen = 0;
+  const double lengths[2] = {0.2, 0.2 * std::sqrt(2.0)};
+  LampSamples out;
+  auto halvings = [](double ratio, int& p) {  // ratio = 2^-p for a whole p >= 0
+    const double q = std::round(-std::log2(std::max(ratio, 1e-300)));
+    p = int(q);
+    return q >= 0.0 && std::abs(ratio * std::exp2(q) - 1.0) <= 1e-4;
+  };
   for (const hr::IncidentSample& s : r.seen) {
     if (s.senderNormal == glm::vec3(0.0f)) continue;
-    ++named;
-    const hr::Vec3 n(s.senderNormal);
-    if (glm::length(n - kTiltedLampNormal) > 1e-5 || !(glm::dot(n, s.toSender) < 0.0)) ++*wrong;
-    const hr::Vec3 axis(s.senderShape.axis);
-    const double a = glm::length(axis), area = 4.0 * a * double(s.senderShape.halfWidth);
-    const double pieces = a > 0.0 ? lampArea / area : 0.0;
-    const double power = std::round(std::log2(std::max(pieces, 1e-300)));
-    auto along = [&](const hr::Vec3& side) {
-      return a > 0.0 && std::abs(glm::dot(axis / a, side)) > 1.0 - 1e-5;
-    };
-    const bool alongSide = along(sides[0]) || along(sides[1]);
-    if ((!alongSide || !(power >= 0.0) || std::abs(pieces / std::exp2(power) - 1.0) > 1e-4)) ++*misshapen;
+    ++out.named;
+    const hr::Vec3 n(s.senderNormal), axis(s.senderShape.axis);
+    if (glm::length(n - kTiltedLampNormal) > 1e-5 || !(glm::dot(n, s.toSender) < 0.0)) ++out.wrong;
+    const double a = glm::length(axis), b = double(s.senderShape.halfWidth);
+    int k = -1, p = 0, q = 0;
+    for (int i = 0; i < 2; ++i)
+      if (a > 0.0 && std::abs(glm::dot(axis / a, sides[i])) > 1.0 - 1e-5) k = i;
+    const bool fits = k >= 0 && halvings(2.0 * a / lengths[k], p) && halvings(2.0 * b / lengths[1 - k], q) &&
+                      (!quarters || p == q);
+    if (!fits) ++out.misshapen;
+    out.finest = std::max(out.finest, std::max(p, q));
   }
-  return named;
+  return out;
 }
 
 }  // namespace testutil

@@ -123,21 +123,24 @@ TEST(Hooks, ASolveThatCreatesEnergyStopsAsDiverging) {
 }
 
 // A sample names its sender's normal when the sender is a flat element (the display carries its
-// foreshortening to the point it shows: hr::IncidentSample::senderNormal), gathering and shooting.
+// foreshortening to the point it shows: hr::IncidentSample::senderNormal) and its shape (the
+// rectangle of one of its pieces: at eps 2e-5 the lamp's links split), gathering and shooting.
 TEST(Hooks, ASampleNamesItsFlatSendersNormal) {
   for (hr::Iteration it : {hr::Iteration::Gather, hr::Iteration::Shoot}) {
     hr::SolverOptions o;
-    o.eps = 1e-3;
+    o.eps = 2e-5;
     o.iteration = it;
     testutil::SampleRecorder rec;
     auto s = testutil::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
-    std::size_t wrong = 0, misshapen = 0;
-    const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong, &misshapen);
-    std::printf("%s: %zu samples, %zu name the lamp's normal, %zu another, %zu a shape not its pieces'\n",
-                it == hr::Iteration::Gather ? "gather" : "shoot", rec.seen.size(), named, wrong, misshapen);
-    EXPECT_GT(named, 0u);
-    EXPECT_EQ(wrong, 0u);
-    EXPECT_EQ(misshapen, 0u);
+    const testutil::LampSamples l = testutil::samplesNamingTheLamp(rec, true);
+    std::printf("%s: %zu samples, %zu name the lamp's normal, %zu another, %zu a shape not its pieces' "
+                "(finest: a side halved %d times)\n",
+                it == hr::Iteration::Gather ? "gather" : "shoot", rec.seen.size(), l.named, l.wrong,
+                l.misshapen, l.finest);
+    EXPECT_GT(l.named, 0u);
+    EXPECT_EQ(l.wrong, 0u);
+    EXPECT_EQ(l.misshapen, 0u);
+    EXPECT_GT(l.finest, 0);  // pieces, not only the whole lamp
   }
 }
 

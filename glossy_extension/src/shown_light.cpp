@@ -26,13 +26,15 @@ bool usable(const hr::IncidentSample& s) {
          std::isfinite(s.distance) && std::isfinite(s.radius);
 }
 
-/// A host's shape for a flat sender, or none when it is not finite or not in the sender's plane.
+/// A host's shape for a flat sender, its axis laid into the sender's plane to rounding (the solution
+/// file holds it to that); none when it is not finite or leans out of the plane.
 hr::SenderRectangle shapeOf(const hr::IncidentSample& s, const glm::vec3& senderNormal) {
   const hr::SenderRectangle& r = s.senderShape;
-  if (senderNormal == glm::vec3(0.0f) || !hr::allFinite(Vec3(r.axis)) || !std::isfinite(r.halfWidth) ||
-      !(r.halfWidth >= 0.0f) || std::abs(glm::dot(r.axis, senderNormal)) > 1e-3f * glm::length(r.axis))
+  const Vec3 a(r.axis), n(senderNormal);
+  if (senderNormal == glm::vec3(0.0f) || !hr::allFinite(a) || !std::isfinite(r.halfWidth) ||
+      !(r.halfWidth >= 0.0f) || std::abs(glm::dot(a, n)) > 1e-3 * glm::length(a))
     return {};
-  return r;
+  return {glm::vec3(a - glm::dot(a, n) * n), r.halfWidth};
 }
 
 bool brighter(const ShownLight::Sample& a, const ShownLight::Sample& b) {
@@ -41,6 +43,8 @@ bool brighter(const ShownLight::Sample& a, const ShownLight::Sample& b) {
 
 /// A flat piece's own area covariance in its plane (m^2): its rectangle's, else the disk of its
 /// radius (IncidentSample::radius, a disk of spread2 (1 + c^2) about it, c the cosine at the sender).
+/// So a group gets the rectangle of its moments even from shapeless pieces: they lie in one plane,
+/// and the rectangle carries the foreshortening that a disk across the line of sight does not.
 glm::dmat3 pieceMoments(const ShownLight::Sample& x) {
   const Vec3 n(x.senderNormal);
   if (x.senderShape.axis != glm::vec3(0.0f)) return hr::momentsOfRectangle(x.senderShape, n);
@@ -135,7 +139,7 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
       x.irradiance = glm::vec3(g.irradiance);
       const Vec3 m = g.sum / g.weight;
       const glm::dmat3 moments = g.outer / g.weight - glm::outerProduct(m, m) + g.ownMoments / g.weight;
-      x.senderShape = hr::rectangleOfMoments(moments, Vec3(x.senderNormal));
+      x.senderShape = hr::rectangleOfMoments(moments, Vec3(x.senderNormal), Vec3(x.senderShape.axis));
     }
     out.push_back(x);
   }
@@ -230,10 +234,13 @@ double lobeOverRectangle(const Vec3& c, const hr::SenderRectangle& r, const Vec3
   const double d = glm::length(to);
   if (!(d > 0.0)) return 0.0;
   const Vec3 wi = to / d;
-  const double spread = std::min(std::asin(std::min(1.0, (glm::length(a) + glm::length(b)) / d)), 1.2);
-  const double a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
-  if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach)
-    return 0.0;
+  // Every point lies within asin(s / d) of wi, s = |a| + |b| at least its half-diagonal; a rectangle
+  // for which s passes d may lie anywhere about x, and is not culled.
+  if (const double across = glm::length(a) + glm::length(b); across < d) {
+    const double spread = std::asin(across / d), a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
+    if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach)
+      return 0.0;
+  }
   double weights = 0.0, lit = 0.0;
   for (int i = 0; i < kRectanglePoints; ++i)
     for (int j = 0; j < kRectanglePoints; ++j) {

@@ -105,13 +105,14 @@ TEST(VisionGlossy, ASampleNamesItsFlatSendersNormal) {
   o.iteration = hr::Iteration::Shoot;
   testutil::SampleRecorder rec;
   visiontest::solveText(testutil::kTiltedLampOverGlossyFloor, o, &rec);
-  std::size_t wrong = 0, misshapen = 0;
-  const std::size_t named = testutil::samplesNamingTheLamp(rec, &wrong, &misshapen);
-  std::printf("%zu samples, %zu name the lamp's normal, %zu another, %zu a shape not one of its pieces\n",
-              rec.seen.size(), named, wrong, misshapen);
-  EXPECT_GT(named, 0u);
-  EXPECT_EQ(wrong, 0u);
-  EXPECT_EQ(misshapen, 0u);
+  const testutil::LampSamples l = testutil::samplesNamingTheLamp(rec, false);
+  std::printf("%zu samples, %zu name the lamp's normal, %zu another, %zu a shape not one of its pieces "
+              "(finest: a side halved %d times)\n",
+              rec.seen.size(), l.named, l.wrong, l.misshapen, l.finest);
+  EXPECT_GT(l.named, 0u);
+  EXPECT_EQ(l.wrong, 0u);
+  EXPECT_EQ(l.misshapen, 0u);
+  EXPECT_GT(l.finest, 0);  // pieces, not only the whole lamp
 }
 
 TEST(VisionGlossy, ReflectionInLayersGivesTheWholeSampleListsAnswer) {

@@ -69,9 +69,11 @@ Geometry measure(const Surface& s, const Rect& r) {
   g.spread2 = area > 0.0 ? std::max(0.0, second / area - glm::dot(g.center, g.center)) : 0.0;
   double nl = glm::length(nsum);
   g.normal = nl > 0.0 ? nsum / nl : Vec3(0.0);
-  if (s.planar() && area > 0.0 && g.normal != Vec3(0.0))
+  if (s.planar() && area > 0.0 && g.normal != Vec3(0.0)) {
+    const double vm = 0.5 * (r.v0 + r.v1);  // the u direction names a square element's axis
     g.shape = hr::rectangleOfMoments(outer / area - glm::outerProduct(g.center - mid, g.center - mid),
-                                     g.normal);
+                                     g.normal, s.point(r.u1, vm) - s.point(r.u0, vm));
+  }
 
   // Box, radius and cone from a grid (planar kinds: the outline's corners and polygon vertices).
   int mu, mv;

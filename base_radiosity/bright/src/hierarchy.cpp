@@ -30,7 +30,7 @@ Hierarchy::Hierarchy(std::vector<Patch> patches, int leafSize) : patches_(std::m
     e.center = p.poly.centroid();
     e.area = p.area;
     e.radius = p.poly.radius();
-    e.shape = rectangleOfMoments(p.poly.areaMoments(), p.normal);
+    e.shape = rectangleOfMoments(p.poly.areaMoments(), p.normal, p.poly.v[1] - p.poly.v[0]);
     e.patch = i;
     elements_.push_back(e);
   }
@@ -123,7 +123,7 @@ void Hierarchy::subdivideAll(std::span<const std::uint32_t> leaves) {
         e.center = polys[k].centroid();
         e.area = polys[k].area();
         e.radius = polys[k].radius();
-        e.shape = rectangleOfMoments(polys[k].areaMoments(), par.normal);
+        e.shape = rectangleOfMoments(polys[k].areaMoments(), par.normal, polys[k].v[1] - polys[k].v[0]);
         e.patch = par.patch;
         e.parent = ei;
         e.level = par.level + 1;

@@ -327,7 +327,8 @@ class PushPull {
 
   /// The chain's samples on a plane with normal n (E_perp max(0, n.w)), to start a simulated
   /// patch's sample list.
-  void chainSamples(const SampleChain& chain, const Vec3& n, const Vec3& at, std::vector<IncidentSample>& out) const {
+  void chainSamples(const SampleChain& chain, const Vec3& n, const Vec3& at,
+                    std::vector<IncidentSample>& out) const {
     for (const SampleChain* c = &chain; c; c = c->parent) {
       if (!c->here) continue;
       const ClusterSamples& cs = *c->here;

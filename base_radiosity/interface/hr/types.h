@@ -4,6 +4,7 @@
 #pragma once
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
@@ -36,6 +37,13 @@ struct Aabb {
   Vec3 extent() const { return hi - lo; }
   double diagonal() const { return empty() ? 0.0 : glm::length(hi - lo); }
 };
+
+/// Completes unit vector w to a right-handed orthonormal frame (u, v, w).
+inline void orthonormalBasis(const Vec3& w, Vec3& u, Vec3& v) {
+  const Vec3 t = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  u = glm::normalize(glm::cross(t, w));
+  v = glm::cross(w, u);
+}
 
 inline double maxComponent(const Rgb& c) { return glm::max(c.x, glm::max(c.y, c.z)); }
 inline bool allFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }

@@ -21,12 +21,7 @@ inline double solidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 2.0 * std::atan2(num, den);
 }
 
-/// Completes unit vector w to a right-handed orthonormal frame (u, v, w).
-inline void orthonormalBasis(const Vec3& w, Vec3& u, Vec3& v) {
-  Vec3 t = std::abs(w.x) > 0.9 ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  u = glm::normalize(glm::cross(t, w));
-  v = glm::cross(w, u);
-}
+using hr::orthonormalBasis;  // one frame for hosts and extension (hr/types.h)
 
 /// Point j of count at r = 1, as its radius and the cosine and sine of its turn: a caller that spreads
 /// many disks over the same count tabulates these once (a sine and a cosine per point per pixel were

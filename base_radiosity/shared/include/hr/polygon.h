@@ -51,9 +51,10 @@ struct Polygon {
     glm::dmat3 m(0.0);
     Vec3 first(0.0);
     double total = 0.0;
+    const auto [t0, t1] = twiceTriangleAreas();  // the fan's two triangles (a triangle's is the first)
     for (int i = 1; i + 1 < n; ++i) {
       const Vec3 b = v[i] - v[0], c = v[i + 1] - v[0], s = b + c;
-      const double a = 0.5 * glm::length(glm::cross(b, c));
+      const double a = 0.5 * (i == 1 ? t0 : t1);
       m += (a / 12.0) * (glm::outerProduct(b, b) + glm::outerProduct(c, c) + glm::outerProduct(s, s));
       first += (a / 3.0) * s;
       total += a;
