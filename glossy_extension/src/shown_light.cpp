@@ -219,28 +219,31 @@ double lobeOverDisk(double a, const PhongPower& power, double rho2) {
 // widths across, over which the lobe falls smoothly (ShownLight.ARectangularSourcesHighlightIsItsShape).
 constexpr int kRectanglePoints = 6;
 
-/// The lobe cos^n about toEye's mirror, averaged over a flat rectangle (centre c, shape r, unit normal
-/// sn) as seen from x (normal n): each point weighted by the irradiance it sends to x, the cosines at
-/// x and at the sender over the squared distance. 0 when none of it is above x's horizon, or when the
-/// rectangle's directions, all within its half-diagonal of c's, stay beyond the lobe's reach.
-double lobeOverRectangle(const Vec3& c, const hr::SenderRectangle& r, const Vec3& sn, const Vec3& x,
-                         const Vec3& n, const Vec3& toEye, const PhongPower& power, double reach) {
+/// Whether a source whose directions lie within `spread` (rad) of unit wi sends nothing into toEye's
+/// lobe at a point of normal n: their mirrors lie within spread of wi's, and the nearest of them to
+/// toEye is still beyond `reach` (the cosine below which cos^n is dropped).
+bool beyondLobe(const Vec3& wi, const Vec3& n, const Vec3& toEye, double spread, double reach) {
+  const double a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
+  return a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach;
+}
+
+/// The lobe cos^n about toEye's mirror, averaged over a flat rectangle (shape r, unit normal sn) whose
+/// centre lies at `to` (m, d = |to| > 0, wi = to / d) from a point of normal n: each point weighted by
+/// the irradiance it sends there, the cosines at both ends over the squared distance. 0 when none of
+/// it is above the point's horizon, or when all of it lies beyond the lobe's reach.
+double lobeOverRectangle(const Vec3& to, double d, const Vec3& wi, const hr::SenderRectangle& r,
+                         const Vec3& sn, const Vec3& n, const Vec3& toEye, const PhongPower& power,
+                         double reach) {
   static const auto rule = [] {
     std::pair<std::vector<double>, std::vector<double>> t;
     gaussLegendre(kRectanglePoints, t.first, t.second);
     return t;
   }();
-  const Vec3 a(r.axis), b = hr::rectangleSide(r.axis, sn) * double(r.halfWidth), to = c - x;
-  const double d = glm::length(to);
-  if (!(d > 0.0)) return 0.0;
-  const Vec3 wi = to / d;
+  const Vec3 a(r.axis), b = hr::rectangleSide(r.axis, sn) * double(r.halfWidth);
   // Every point lies within asin(s / d) of wi, s = |a| + |b| at least its half-diagonal; a rectangle
-  // for which s passes d may lie anywhere about x, and is not culled.
-  if (const double across = glm::length(a) + glm::length(b); across < d) {
-    const double spread = std::asin(across / d), a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
-    if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach)
-      return 0.0;
-  }
+  // for which s passes d may lie anywhere about the point, and is not culled.
+  const double across = glm::length(a) + glm::length(b);
+  if (across < d && beyondLobe(wi, n, toEye, std::asin(across / d), reach)) return 0.0;
   double weights = 0.0, lit = 0.0;
   for (int i = 0; i < kRectanglePoints; ++i)
     for (int j = 0; j < kRectanglePoints; ++j) {
@@ -389,12 +392,12 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
   for (const ShownLight::Sample& smp : s.samples) {
     // Re-aimed from x: the sender's centre where its distance is known, else the same direction.
     const hr::IncidentSample in = smp.in();
-    Vec3 wi = in.toSender;
+    Vec3 wi = in.toSender, to(0.0);  // to: from x to the sender's centre, m
     double d = 0.0;
     if (in.distance > 0.0) {
-      const Vec3 p = Vec3(smp.from) + in.distance * in.toSender - x;
-      d = glm::length(p);
-      if (d > 0.0) wi = p / d;
+      to = Vec3(smp.from) + in.distance * in.toSender - x;
+      d = glm::length(to);
+      if (d > 0.0) wi = to / d;
     }
     const double cosX = glm::dot(n, wi), cosLeaf = glm::dot(Vec3(smp.normal), in.toSender);
     if (!(cosX > 0.0) || !(cosLeaf > 0.0)) continue;
@@ -420,17 +423,16 @@ Rgb shownRadiance(const ShownLight& s, const Vec3& x, const Vec3& n, const Vec3&
       continue;
     }
     if (d > 0.0 && in.senderNormal != glm::vec3(0.0f) && in.senderShape.axis != glm::vec3(0.0f)) {
-      const Vec3 centre = Vec3(smp.from) + in.distance * in.toSender;
       const Vec3 sn(in.senderNormal);
-      sum += f * e * lobeOverRectangle(centre, in.senderShape, sn, x, n, toEye, power, reach);
+      sum += f * e * lobeOverRectangle(to, d, wi, in.senderShape, sn, n, toEye, power, reach);
       continue;
     }
     // The sender's disk, evenly bright: directions on a sunflower over it, each carrying irradiance
     // in proportion to its cosine at x (equal solid angles); those below x's horizon send nothing.
     // Its directions lie within `spread` of wi, so their mirrors within it of wi's: none reaches
     // toEye's lobe when the nearest of them, spread nearer than wi's mirror, is beyond the reach.
-    const double spread = std::min(seen, 1.2), a0 = std::clamp(glm::dot(mirror(wi, n), toEye), -1.0, 1.0);
-    if (a0 < std::cos(spread) && a0 * std::cos(spread) + std::sqrt(1.0 - a0 * a0) * std::sin(spread) < reach) continue;
+    const double spread = std::min(seen, 1.2);
+    if (beyondLobe(wi, n, toEye, spread, reach)) continue;
     const double r = std::tan(spread);
     Vec3 u, v;
     orthonormalBasis(wi, u, v);

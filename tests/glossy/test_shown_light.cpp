@@ -317,6 +317,18 @@ TEST(ShownLight, ARectangularSourcesHighlightIsItsShape) {
   EXPECT_GT(worstDisks, 0.02);
 }
 
+/// The shape of the one sample a leaf at the origin (normal +z) keeps of these pieces; none, and a
+/// failure, when it keeps another number of them.
+hr::SenderRectangle joinedShape(const std::vector<hr::IncidentSample>& pieces) {
+  const auto kept =
+      glossy::keepShown(pieces, Vec3(0.0), Vec3(0, 0, 1), Rgb(0.5), kN, 4, glossy::kSenderPoints);
+  if (!kept || kept->samples.size() != 1u) {
+    ADD_FAILURE() << "kept " << (kept ? kept->samples.size() : 0u) << " samples, not one";
+    return {};
+  }
+  return kept->samples[0].senderShape;
+}
+
 TEST(ShownLight, JoinedPiecesAreTheRectangleOfTheirMoments) {
   // The same lamp, 0.02 m long, in 8 x 4 pieces with their rectangles: joined into one sample whose
   // shape is the whole lamp's, a half-axis of 0.01 m along its long side and a half-width of
@@ -324,12 +336,9 @@ TEST(ShownLight, JoinedPiecesAreTheRectangleOfTheirMoments) {
   const Vec3 wi = testhost::around(Vec3(0, 0, 1), 35.0 * kPi / 180.0, 0.4);
   const Vec3 sn = -testhost::around(wi, 40.0 * kPi / 180.0, 1.1);
   const Vec3 ua = glm::normalize(glm::cross(sn, Vec3(0.3, 1.0, 0.2))), ub = glm::cross(sn, ua);
-  const auto pieces = rectanglePieces(Vec3(0.0), wi, sn, ua, ub, 0.02, 0.008, 2.0, 6e4, 8, 4, true);
-  const auto kept =
-      glossy::keepShown(pieces, Vec3(0.0), Vec3(0, 0, 1), Rgb(0.5), kN, 4, glossy::kSenderPoints);
-  ASSERT_NE(kept, nullptr);
-  ASSERT_EQ(kept->samples.size(), 1u);
-  const hr::SenderRectangle& r = kept->samples[0].senderShape;
+  const hr::SenderRectangle r =
+      joinedShape(rectanglePieces(Vec3(0.0), wi, sn, ua, ub, 0.02, 0.008, 2.0, 6e4, 8, 4, true));
+  ASSERT_NE(r.axis, glm::vec3(0.0f));
   std::printf("half-axis %.6f m, %.6f of it along the long side; half-width %.6f m\n",
               glm::length(Vec3(r.axis)), std::abs(glm::dot(glm::normalize(Vec3(r.axis)), ua)),
               double(r.halfWidth));
@@ -338,12 +347,9 @@ TEST(ShownLight, JoinedPiecesAreTheRectangleOfTheirMoments) {
   EXPECT_NEAR(r.halfWidth, 0.004, 4e-6);
   // A square lamp's quarters: their moments are the same along every line in the plane and name no
   // axis; the first piece's does (rounding alone turned squares up to 52 degrees off their sides).
-  const auto square = rectanglePieces(Vec3(0.0), wi, sn, ua, ub, 0.02, 0.02, 2.0, 6e4, 2, 2, true);
-  const auto one =
-      glossy::keepShown(square, Vec3(0.0), Vec3(0, 0, 1), Rgb(0.5), kN, 4, glossy::kSenderPoints);
-  ASSERT_NE(one, nullptr);
-  ASSERT_EQ(one->samples.size(), 1u);
-  const hr::SenderRectangle& q = one->samples[0].senderShape;
+  const hr::SenderRectangle q =
+      joinedShape(rectanglePieces(Vec3(0.0), wi, sn, ua, ub, 0.02, 0.02, 2.0, 6e4, 2, 2, true));
+  ASSERT_NE(q.axis, glm::vec3(0.0f));
   const Vec3 qa = glm::normalize(Vec3(q.axis));
   EXPECT_GT(std::max(std::abs(glm::dot(qa, ua)), std::abs(glm::dot(qa, ub))), 1.0 - 1e-6);
   EXPECT_NEAR(glm::length(Vec3(q.axis)), 0.01, 1e-5);
