@@ -508,7 +508,8 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(l->dist));
       if (l->shown) {  // counted at every node that shares it: a bound
         shownLights += 1, shownSamples += double(l->shown->samples.size());
-        bytesTotal += double(sizeof(ShownLight) + l->shown->samples.capacity() * sizeof(ShownLight::Sample));
+        const double held = double(l->shown->samples.capacity() + l->shown->deposited.capacity());
+        bytesTotal += double(sizeof(ShownLight)) + held * double(sizeof(ShownLight::Sample));
       }
       for (const NodeLight& m : l->more) {
         bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(m.dist));

@@ -9,6 +9,9 @@
 // incident samples the display sharpens highlights with), so a rendered file shows what the solve
 // showed. Version 4: each shown sample also names its sender's normal (zero for none). Version 5:
 // and its sender's shape (hr/sender_shape.h: the half-axis, then the half-width; zero for none).
+// Version 6: a shown light's joined samples' pieces as the solve deposited them (their count, then
+// each as a sample is written) before its samples, and each sample preceded by its first piece and
+// piece count (0: none).
 #include <glossy/illumination_samples.h>
 #include <glossy/is_options.h>
 #include <glossy/serial.h>
@@ -171,7 +174,8 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
         !(sh->exponent >= 0.0) || !std::isfinite(sh->exponent) || sh->level < 0 || sh->level > kMaxDirLevel || !(sh->total > 0.0) || !std::isfinite(sh->total) ||
         sh->senderPoints < 0 || sh->senderPoints > kSenderPoints)
       refuse(where + ": values out of range");
-    for (std::uint32_t j = 0; j < n; ++j) {
+    // One sample's or piece's fields, checked.
+    auto readSample = [&](const std::string& what) {
       ShownLight::Sample y;
       const Vec3 from = readVec(in), normal = readVec(in), toSender = readVec(in), irradiance = readVec(in);
       const Vec3 senderNormal = readVec(in);
@@ -190,11 +194,24 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
           !(radius >= 0.0) || !(radius < 1e30) || glm::any(glm::greaterThan(glm::abs(from), Vec3(1e30))) ||
           glm::any(glm::greaterThan(irradiance, Rgb(1e30))) || !hr::allFinite(senderNormal) ||
           (senderNormal != Vec3(0.0) && std::abs(glm::length(senderNormal) - 1.0) > 1e-6) || !shapeOk)
-        refuse(where + ": sample " + std::to_string(j) + " out of range");
+        refuse(where + ": " + what + " out of range");
       y.from = glm::vec3(from), y.normal = glm::vec3(normal), y.toSender = glm::vec3(toSender);
       y.irradiance = glm::vec3(irradiance), y.distance = float(distance), y.radius = float(radius);
       y.senderNormal = glm::vec3(senderNormal);
       y.senderShape = {glm::vec3(axis), float(halfWidth)};
+      return y;
+    };
+    // The joined samples' pieces first (read one by one: a damaged count runs into the end of the
+    // section, not into memory), then the samples, each naming its pieces.
+    const std::uint64_t m = serial::readU64(in);
+    for (std::uint64_t j = 0; j < m; ++j) sh->deposited.push_back(readSample("piece " + std::to_string(j)));
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const std::uint32_t first = serial::readU32(in), pieces = serial::readU32(in);
+      if (pieces > 0 && (first >= m || pieces > m - first))
+        refuse(where + ": sample " + std::to_string(j) + " names pieces beyond the " + std::to_string(m) +
+               " there are");
+      ShownLight::Sample y = readSample("sample " + std::to_string(j));
+      y.firstPiece = pieces > 0 ? first : 0, y.pieces = pieces;
       sh->samples.push_back(y);
     }
     table[index]->shown = std::move(sh);
@@ -234,9 +251,16 @@ void IlluminationSamples::save(std::ostream& sink) const {
       vec(sh->specular), f64(sh->exponent), f64(sh->total);
       serial::writeU32(out, std::uint32_t(sh->level));
       serial::writeU32(out, std::uint32_t(sh->senderPoints));
-      for (const ShownLight::Sample& x : sh->samples)
+      auto sample = [&](const ShownLight::Sample& x) {
         vec(Vec3(x.from)), vec(Vec3(x.normal)), vec(Vec3(x.toSender)), vec(Vec3(x.irradiance)), vec(Vec3(x.senderNormal)),
             f64(x.distance), f64(x.radius), vec(Vec3(x.senderShape.axis)), f64(x.senderShape.halfWidth);
+      };
+      serial::writeU64(out, sh->deposited.size());
+      for (const ShownLight::Sample& x : sh->deposited) sample(x);
+      for (const ShownLight::Sample& x : sh->samples) {
+        serial::writeU32(out, x.firstPiece), serial::writeU32(out, x.pieces);
+        sample(x);
+      }
     }
   };
   {

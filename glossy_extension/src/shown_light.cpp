@@ -14,6 +14,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <tuple>
 #include <unordered_map>
 
 namespace glossy {
@@ -53,6 +54,24 @@ glm::dmat3 pieceMoments(const ShownLight::Sample& x) {
   return 0.5 * spread2 * (glm::dmat3(1.0) - glm::outerProduct(n, n));
 }
 
+/// Pieces alike but for their irradiance (one link's light in several shooting passes) made one: a
+/// deposit is linear in the irradiance, so the sum deposits the same lobes, and a leaf's pieces stay
+/// as many as the senders it sees, not the passes it took.
+void mergeAlike(std::vector<ShownLight::Sample>& pieces) {
+  auto key = [](const ShownLight::Sample& x) {
+    const glm::vec3 &t = x.toSender, &f = x.from, &n = x.normal, &s = x.senderNormal, &a = x.senderShape.axis;
+    return std::tuple(t.x, t.y, t.z, f.x, f.y, f.z, n.x, n.y, n.z, s.x, s.y, s.z, x.distance, x.radius, a.x,
+                      a.y, a.z, x.senderShape.halfWidth);
+  };
+  std::stable_sort(pieces.begin(), pieces.end(),
+                   [&](const ShownLight::Sample& a, const ShownLight::Sample& b) { return key(a) < key(b); });
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    if (n > 0 && key(pieces[n - 1]) == key(pieces[k])) pieces[n - 1].irradiance += pieces[k].irradiance;
+    else pieces[n++] = pieces[k];
+  pieces.resize(n);
+}
+
 /// Pieces of one flat sender within `reach` (radians) of a group's centre as the leaf sees them,
 /// joined into one sample: their irradiance summed, about their luminance-weighted centre, with the
 /// second moment of all of them across the line of sight (so the disk they make is as wide as the
@@ -60,7 +79,8 @@ glm::dmat3 pieceMoments(const ShownLight::Sample& x) {
 /// lamp). v comes brightest first; each piece goes into the group it fits nearest; only the
 /// brightest kMaxPieces are looked at (grouping is quadratic in them). A group that would be
 /// wider than `widest` times its distance (a shown sample's limit) keeps its pieces apart.
-void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest) {
+void joinPieces(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Sample>& pool, double reach,
+                double widest) {
   struct Group {
     std::vector<std::size_t> pieces;  // the first, the brightest, names its leaf, plane and sender normal
     double weight = 0.0;              // luminance
@@ -140,6 +160,17 @@ void joinPieces(std::vector<ShownLight::Sample>& v, double reach, double widest)
       const Vec3 m = g.sum / g.weight;
       const glm::dmat3 moments = g.outer / g.weight - glm::outerProduct(m, m) + g.ownMoments / g.weight;
       x.senderShape = hr::rectangleOfMoments(moments, Vec3(x.senderNormal), Vec3(x.senderShape.axis));
+      // Its pieces as deposited, the members' own where they were joined before.
+      std::vector<ShownLight::Sample> pieces;
+      for (std::size_t k : g.pieces) {
+        const ShownLight::Sample& y = v[k];
+        if (y.pieces == 0) pieces.push_back(y);
+        else pieces.insert(pieces.end(), pool.begin() + y.firstPiece, pool.begin() + y.firstPiece + y.pieces);
+      }
+      mergeAlike(pieces);
+      x.firstPiece = std::uint32_t(pool.size());
+      x.pieces = std::uint32_t(pieces.size());
+      pool.insert(pool.end(), pieces.begin(), pieces.end());
     }
     out.push_back(x);
   }
@@ -168,21 +199,31 @@ double keptLight(const std::vector<ShownLight::Sample>& v) {
 /// narrowest of kMergeWidths unless a wider one keeps more than one share more light. Per join: a
 /// leaf joined one sample at a time (Radiance Clustering) never widens, since one piece is under a
 /// share, and keeps what it kept before (docs/glossy.md, "A lamp in many pieces").
-void keepJoined(std::vector<ShownLight::Sample>& v, double total, double exponent) {
+void keepJoined(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Sample>& pool, double total,
+                double exponent) {
   const double width = lobeWidth(exponent), widest = kShownWidth * width;
   std::stable_sort(v.begin(), v.end(), brighter);  // once, for every width's join
   // No join keeps more than all of it: once the one taken is within a share of that, a wider one
   // could not be taken, and is not tried (most leaves stop at the first).
   const double all = keptLight(v);
-  std::vector<ShownLight::Sample> best;
+  std::vector<ShownLight::Sample> best, bestPool;
   double bestKept = -1.0;
   for (const double w : kMergeWidths) {
     if (all <= bestKept + kShownShare * total) break;
-    std::vector<ShownLight::Sample> t = v;
-    joinPieces(t, w * width, widest);
+    std::vector<ShownLight::Sample> t = v, tPool = pool;
+    joinPieces(t, tPool, w * width, widest);
     keepBrightest(t, total);
     const double kept = keptLight(t);
-    if (kept > bestKept + kShownShare * total) best = std::move(t), bestKept = kept;
+    if (kept > bestKept + kShownShare * total)
+      best = std::move(t), bestPool = std::move(tPool), bestKept = kept;
+  }
+  // Only the kept samples' pieces stay.
+  pool.clear();
+  for (ShownLight::Sample& x : best) {
+    if (x.pieces == 0) continue;
+    const std::uint32_t first = std::uint32_t(pool.size());
+    pool.insert(pool.end(), bestPool.begin() + x.firstPiece, bestPool.begin() + x.firstPiece + x.pieces);
+    x.firstPiece = first;
   }
   v = std::move(best);
 }
@@ -281,7 +322,7 @@ std::shared_ptr<const ShownLight> keepShown(std::span<const hr::IncidentSample> 
                               glm::vec3(normal), senderNormal, float(s.distance), float(s.radius),
                               shapeOf(s, senderNormal)});
     }
-  keepJoined(out->samples, total, exponent);
+  keepJoined(out->samples, out->deposited, total, exponent);
   if (out->samples.empty()) return nullptr;
   out->total = total;
   out->specular = specular;
@@ -298,8 +339,12 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
   auto out = std::make_shared<ShownLight>(*b);
   out->samples = a->samples;
   out->samples.insert(out->samples.end(), b->samples.begin(), b->samples.end());
+  out->deposited = a->deposited;
+  out->deposited.insert(out->deposited.end(), b->deposited.begin(), b->deposited.end());
+  for (std::size_t k = a->samples.size(); k < out->samples.size(); ++k)
+    out->samples[k].firstPiece += std::uint32_t(a->deposited.size());
   out->total = a->total + b->total;
-  keepJoined(out->samples, out->total, out->exponent);
+  keepJoined(out->samples, out->deposited, out->total, out->exponent);
   // Every sample may lose its share of the joint total (many passes of equal light): none is kept.
   if (out->samples.empty()) return nullptr;
   return out;
@@ -313,12 +358,17 @@ Rgb cellMeanNow(const ShownLight& s, const Frame& frame, double area, int level,
   LobeSet lobes;
   lobes.exponent = s.exponent;
   ReflectCounts rc;
-  for (const ShownLight::Sample& x : s.samples) {
+  auto add = [&](const ShownLight::Sample& x) {
     const Frame own = Frame::around(Vec3(x.normal));
     const hr::IncidentSample in = x.in();
     const LobeSet one = makeLobes({&in, 1}, own, Vec3(x.normal), area, s.specular, s.exponent, 0.0, rc, s.senderPoints, cellSize(s.level));
     for (const LobeSample& l : one.samples) lobes.samples.push_back({frame.toLocal(own.toWorld(l.mirror)), l.weight, false});
-  }
+  };
+  // A joined sample's pieces, as the solve deposited them.
+  for (const ShownLight::Sample& x : s.samples)
+    if (x.pieces == 0) add(x);
+    else
+      for (std::uint32_t k = x.firstPiece; k < x.firstPiece + x.pieces; ++k) add(s.deposited[k]);
   // At the leaf's own level and summed up to the cell read, as the stored tree's means were: the
   // same quadrature, so the two means differ by rounding alone. A cell finer than that level (a
   // re-projected child's) gets the mean of the cell of that level holding it.

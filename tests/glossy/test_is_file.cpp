@@ -41,6 +41,16 @@ struct Solved {
         s.back().senderNormal = glm::vec3(sn);
         if (k % 2) s.back().senderShape = {glm::vec3(0.25 * hr::rectangleSide(glm::vec3(n), sn)), 0.1f};
       }
+      // And a lamp in 10 x 10 pieces, each under the shown share: joined, its pieces kept as deposited.
+      const Vec3 wi = testhost::around(n, 0.6, 2.0);
+      Vec3 a, b;
+      glossy::orthonormalBasis(wi, a, b);
+      for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j) {
+          const Vec3 to = glm::normalize(2.0 * wi + 0.01 * ((i - 4.5) * a + (j - 4.5) * b));
+          s.push_back(testhost::sample(to, Rgb(0.01)));
+          s.back().distance = 2.0, s.back().radius = 0.006, s.back().senderNormal = glm::vec3(-wi);
+        }
       ext->reflect(leaf, s);
     }
     scene.host.pullAll(*ext);
@@ -155,9 +165,9 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   glossy::IlluminationSamples ext;
   expectRefusal(ext, "", saved, "truncated");
   expectRefusal(ext, bytes.substr(0, bytes.size() - 1), saved, "checksum mismatch");
-  std::string v6 = body;
-  v6[4] = 6;  // the format version field
-  expectRefusal(ext, resealed(v6), saved, "format version 6, this build reads version 5");
+  std::string v7 = body;
+  v7[4] = 7;  // the format version field
+  expectRefusal(ext, resealed(v7), saved, "format version 7, this build reads version 6");
   // The shown light (last in the section): its last sample ends with its sender's normal, distance,
   // radius, shape's half-axis and half-width. The radius made negative, the normal twice a unit, the
   // half-width negative, and the half-axis along the normal (out of the sender's plane).
@@ -173,6 +183,11 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
     std::memcpy(&normal[normal.size() - 72 + 8 * c], &v, 8);
   }
   expectRefusal(ext, resealed(normal), saved, "shown light: sample");
+  // The last sample's piece count (before its 168 bytes of fields) past the pieces there are.
+  std::string pieces = body;
+  const std::uint32_t many = 1000;
+  std::memcpy(&pieces[pieces.size() - 172], &many, 4);
+  expectRefusal(ext, resealed(pieces), saved, "names pieces beyond the");
   std::string width = body;
   std::memcpy(&width[width.size() - 8], &minusOne, 8);
   expectRefusal(ext, resealed(width), saved, "shown light: sample");

@@ -74,7 +74,7 @@ class IlluminationSamples : public hr::Extension {
   hr::Rgb radiance(hr::NodeId leaf, const hr::Vec3& toEye, const hr::Vec3& normal, const hr::Vec3& at) const override;
   std::size_t coefficients(hr::NodeId leaf) const override;
 
-  std::uint32_t formatVersion() const override { return 5; }
+  std::uint32_t formatVersion() const override { return 6; }
   void save(std::ostream& out) const override;
   void load(std::string_view bytes, const hr::HostView& view) override;
   std::vector<hr::StatEntry> stats() const override;

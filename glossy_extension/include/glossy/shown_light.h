@@ -60,11 +60,17 @@ struct ShownLight {
     glm::vec3 senderNormal{0.0f};          // a flat sender's (hr::IncidentSample::senderNormal); 0: none
     float distance = 0.0f, radius = 0.0f;  // m; distance 0: unknown
     hr::SenderRectangle senderShape;       // a flat sender's shape (hr::IncidentSample::senderShape)
+    // A joined sample's pieces as the solve reflected them: deposited[firstPiece, + pieces); 0: itself.
+    std::uint32_t firstPiece = 0, pieces = 0;
     hr::IncidentSample in() const {
       return {Vec3(toSender), Rgb(irradiance), double(distance), double(radius), senderNormal, senderShape};
     }
   };
   std::vector<Sample> samples;  // the brightest first
+  // The joined samples' pieces, each as the solve deposited it (none joined itself): the cell mean
+  // the display takes out is of these, the lobes the stored distribution holds, not of the joined
+  // source, which the solve never reflected (docs/glossy.md, "Pieces taken out as deposited").
+  std::vector<Sample> deposited;
   double total = 0.0;           // luminance of all the irradiance the leaf received, W/m^2
   Rgb specular{0.0};            // the material's rho_s
   double exponent = 1.0;        // the Phong exponent the leaf reflected with
