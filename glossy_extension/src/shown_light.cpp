@@ -206,25 +206,26 @@ void keepJoined(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Samp
   // No join keeps more than all of it: once the one taken is within a share of that, a wider one
   // could not be taken, and is not tried (most leaves stop at the first).
   const double all = keptLight(v);
-  std::vector<ShownLight::Sample> best, bestPool;
+  // Every width's joins append their groups' pieces to the one pool, whose earlier entries stay as
+  // they are; the kept samples' pieces are copied out at the end.
+  std::vector<ShownLight::Sample> best;
   double bestKept = -1.0;
   for (const double w : kMergeWidths) {
     if (all <= bestKept + kShownShare * total) break;
-    std::vector<ShownLight::Sample> t = v, tPool = pool;
-    joinPieces(t, tPool, w * width, widest);
+    std::vector<ShownLight::Sample> t = v;
+    joinPieces(t, pool, w * width, widest);
     keepBrightest(t, total);
     const double kept = keptLight(t);
-    if (kept > bestKept + kShownShare * total)
-      best = std::move(t), bestPool = std::move(tPool), bestKept = kept;
+    if (kept > bestKept + kShownShare * total) best = std::move(t), bestKept = kept;
   }
-  // Only the kept samples' pieces stay.
-  pool.clear();
+  std::vector<ShownLight::Sample> pieces;
   for (ShownLight::Sample& x : best) {
     if (x.pieces == 0) continue;
-    const std::uint32_t first = std::uint32_t(pool.size());
-    pool.insert(pool.end(), bestPool.begin() + x.firstPiece, bestPool.begin() + x.firstPiece + x.pieces);
+    const std::uint32_t first = std::uint32_t(pieces.size());
+    pieces.insert(pieces.end(), pool.begin() + x.firstPiece, pool.begin() + x.firstPiece + x.pieces);
     x.firstPiece = first;
   }
+  pool = std::move(pieces);
   v = std::move(best);
 }
 
