@@ -207,11 +207,11 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
     for (std::uint64_t j = 0; j < m; ++j) sh->deposited.push_back(readSample("piece " + std::to_string(j)));
     for (std::uint32_t j = 0; j < n; ++j) {
       const std::uint32_t first = serial::readU32(in), pieces = serial::readU32(in);
-      if (pieces > 0 && (first >= m || pieces > m - first))
+      if (pieces > 0 ? first >= m || pieces > m - first : first != 0)
         refuse(where + ": sample " + std::to_string(j) + " names pieces beyond the " + std::to_string(m) +
                " there are");
       ShownLight::Sample y = readSample("sample " + std::to_string(j));
-      y.firstPiece = pieces > 0 ? first : 0, y.pieces = pieces;
+      y.firstPiece = first, y.pieces = pieces;
       sh->samples.push_back(y);
     }
     table[index]->shown = std::move(sh);

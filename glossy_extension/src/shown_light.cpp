@@ -343,7 +343,7 @@ std::shared_ptr<const ShownLight> joinShown(const std::shared_ptr<const ShownLig
   out->deposited = a->deposited;
   out->deposited.insert(out->deposited.end(), b->deposited.begin(), b->deposited.end());
   for (std::size_t k = a->samples.size(); k < out->samples.size(); ++k)
-    out->samples[k].firstPiece += std::uint32_t(a->deposited.size());
+    if (out->samples[k].pieces > 0) out->samples[k].firstPiece += std::uint32_t(a->deposited.size());
   out->total = a->total + b->total;
   keepJoined(out->samples, out->deposited, out->total, out->exponent);
   // Every sample may lose its share of the joint total (many passes of equal light): none is kept.

@@ -5,6 +5,7 @@
 // a message that says so.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include <cstdio>
@@ -25,7 +26,8 @@ using testhost::NodeId;
 struct Solved {
   testhost::Scene scene;
   std::unique_ptr<glossy::IlluminationSamples> ext;
-  explicit Solved(const char* basis) : ext(testhost::configured({{"basis", basis}})) {
+  /// shooting: each leaf's samples arrive in two passes (reflectShot), whose shown lights are joined.
+  explicit Solved(const char* basis, bool shooting = false) : ext(testhost::configured({{"basis", basis}})) {
     ext->attach(scene.host);
     std::mt19937_64 g(31);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -51,7 +53,15 @@ struct Solved {
           s.push_back(testhost::sample(to, Rgb(0.01)));
           s.back().distance = 2.0, s.back().radius = 0.006, s.back().senderNormal = glm::vec3(-wi);
         }
-      ext->reflect(leaf, s);
+      if (!shooting) {
+        ext->reflect(leaf, s);
+        continue;
+      }
+      // The point sources in the second pass: samples of their own beside pieces joined before.
+      std::rotate(s.begin(), s.begin() + 4, s.end());
+      const auto half = s.begin() + std::ptrdiff_t(s.size() / 2);
+      ext->reflectShot(leaf, std::vector<hr::IncidentSample>(s.begin(), half));
+      ext->reflectShot(leaf, std::vector<hr::IncidentSample>(half, s.end()));
     }
     scene.host.pullAll(*ext);
   }
@@ -92,6 +102,14 @@ TEST(IsFile, RoundTripEvaluatesBitIdentically) {
     EXPECT_EQ(testutil::savedBytes(loaded), bytes) << basis << ": saving again gives the same bytes";
     std::printf("%-5s section: %zu bytes for %zu glossy leaves\n", basis, bytes.size(), saved.simulatedLeaves(loaded).size());
   }
+  // A shooting solution's leaves: two passes' shown lights joined, a lamp's pieces from both.
+  Solved s("haar", true);
+  const std::string bytes = testutil::savedBytes(*s.ext);
+  testhost::FakeHost saved = s.scene.host.elementsOnly();
+  glossy::IlluminationSamples loaded;
+  loaded.load(bytes, saved);
+  EXPECT_EQ(fingerprint(loaded, saved), fingerprint(*s.ext, s.scene.host)) << "shooting";
+  EXPECT_EQ(testutil::savedBytes(loaded), bytes) << "shooting: saving again gives the same bytes";
 }
 
 TEST(IsFile, DamagedSectionsAreRefused) {
