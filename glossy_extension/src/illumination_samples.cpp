@@ -496,7 +496,7 @@ std::size_t IlluminationSamples::heldBytes() const {
 std::vector<hr::StatEntry> IlluminationSamples::stats() const {
   double distributions = 0, leafDistributions = 0, coefficientsTotal = 0, coefficientsPeak = 0, bytesTotal = 0;
   double mixedNodes = 0;  // parts beyond the first in nodes mixing bases
-  double shownLights = 0, shownSamples = 0;  // the display's shown light (shown_light.h)
+  double shownLights = 0, shownSamples = 0, shownPieces = 0;  // the display's shown light (shown_light.h)
   auto scan = [&](const std::vector<std::unique_ptr<NodeLight>>& table) {
     for (const auto& l : table) {
       bytesTotal += sizeof(l);
@@ -508,6 +508,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       bytesTotal += double(sizeof(NodeLight) - sizeof(AnyDistribution) + bytes(l->dist));
       if (l->shown) {  // counted at every node that shares it: a bound
         shownLights += 1, shownSamples += double(l->shown->samples.size());
+        shownPieces += double(l->shown->deposited.size());
         const double held = double(l->shown->samples.capacity() + l->shown->deposited.capacity());
         bytesTotal += double(sizeof(ShownLight)) + held * double(sizeof(ShownLight::Sample));
       }
@@ -556,6 +557,7 @@ std::vector<hr::StatEntry> IlluminationSamples::stats() const {
       {"distribution_parts_in_other_bases", mixedNodes},
       {"leaves_with_shown_light", shownLights},
       {"shown_samples", shownSamples},
+      {"shown_pieces", shownPieces},
       {"dir_max_level_used", double(basis_.haar.maxLevel)},  // the finest of the materials' levels (budget: held lower)
   };
   // Which basis each glossy material's leaves hold (the choice --basis auto made, or the one given).

@@ -175,7 +175,7 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
         sh->senderPoints < 0 || sh->senderPoints > kSenderPoints)
       refuse(where + ": values out of range");
     // One sample's or piece's fields, checked.
-    auto readSample = [&](const std::string& what) {
+    auto readSample = [&](const char* kind, std::uint64_t j) {
       ShownLight::Sample y;
       const Vec3 from = readVec(in), normal = readVec(in), toSender = readVec(in), irradiance = readVec(in);
       const Vec3 senderNormal = readVec(in);
@@ -194,7 +194,7 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
           !(radius >= 0.0) || !(radius < 1e30) || glm::any(glm::greaterThan(glm::abs(from), Vec3(1e30))) ||
           glm::any(glm::greaterThan(irradiance, Rgb(1e30))) || !hr::allFinite(senderNormal) ||
           (senderNormal != Vec3(0.0) && std::abs(glm::length(senderNormal) - 1.0) > 1e-6) || !shapeOk)
-        refuse(where + ": " + what + " out of range");
+        refuse(where + ": " + kind + " " + std::to_string(j) + " out of range");
       y.from = glm::vec3(from), y.normal = glm::vec3(normal), y.toSender = glm::vec3(toSender);
       y.irradiance = glm::vec3(irradiance), y.distance = float(distance), y.radius = float(radius);
       y.senderNormal = glm::vec3(senderNormal);
@@ -204,13 +204,13 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
     // The joined samples' pieces first (read one by one: a damaged count runs into the end of the
     // section, not into memory), then the samples, each naming its pieces.
     const std::uint64_t m = serial::readU64(in);
-    for (std::uint64_t j = 0; j < m; ++j) sh->deposited.push_back(readSample("piece " + std::to_string(j)));
+    for (std::uint64_t j = 0; j < m; ++j) sh->deposited.push_back(readSample("piece", j));
     for (std::uint32_t j = 0; j < n; ++j) {
       const std::uint32_t first = serial::readU32(in), pieces = serial::readU32(in);
       if (pieces > 0 ? first >= m || pieces > m - first : first != 0)
         refuse(where + ": sample " + std::to_string(j) + " names pieces beyond the " + std::to_string(m) +
                " there are");
-      ShownLight::Sample y = readSample("sample " + std::to_string(j));
+      ShownLight::Sample y = readSample("sample", j);
       y.firstPiece = first, y.pieces = pieces;
       sh->samples.push_back(y);
     }
@@ -258,6 +258,10 @@ void IlluminationSamples::save(std::ostream& sink) const {
       serial::writeU64(out, sh->deposited.size());
       for (const ShownLight::Sample& x : sh->deposited) sample(x);
       for (const ShownLight::Sample& x : sh->samples) {
+        // What the reader refuses is never written.
+        const std::size_t m = sh->deposited.size();
+        if (x.pieces > 0 ? x.firstPiece >= m || x.pieces > m - x.firstPiece : x.firstPiece != 0)
+          throw std::logic_error("solution section: a shown sample names pieces it does not have");
         serial::writeU32(out, x.firstPiece), serial::writeU32(out, x.pieces);
         sample(x);
       }

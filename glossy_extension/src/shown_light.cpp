@@ -78,7 +78,9 @@ void mergeAlike(std::vector<ShownLight::Sample>& pieces) {
 /// pieces together) and in the sender's plane (the rectangle they make: a lamp's quarters, the
 /// lamp). v comes brightest first; each piece goes into the group it fits nearest; only the
 /// brightest kMaxPieces are looked at (grouping is quadratic in them). A group that would be
-/// wider than `widest` times its distance (a shown sample's limit) keeps its pieces apart.
+/// wider than `widest` times its distance (a shown sample's limit) keeps its pieces apart. A joined
+/// sample's pieces (its members, or theirs where a member was joined before: ranges of `pool`) are
+/// appended to `pool` as its range.
 void joinPieces(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Sample>& pool, double reach,
                 double widest) {
   struct Group {
@@ -198,7 +200,8 @@ double keptLight(const std::vector<ShownLight::Sample>& v) {
 /// lobe's width, the pieces of the coarser solution lost their layout (0.062 -> 0.066): so the
 /// narrowest of kMergeWidths unless a wider one keeps more than one share more light. Per join: a
 /// leaf joined one sample at a time (Radiance Clustering) never widens, since one piece is under a
-/// share, and keeps what it kept before (docs/glossy.md, "A lamp in many pieces").
+/// share, and keeps what it kept before (docs/glossy.md, "A lamp in many pieces"). `pool` holds the
+/// pieces v's joined samples name; it comes back holding the kept samples' pieces alone.
 void keepJoined(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Sample>& pool, double total,
                 double exponent) {
   const double width = lobeWidth(exponent), widest = kShownWidth * width;
@@ -218,7 +221,10 @@ void keepJoined(std::vector<ShownLight::Sample>& v, std::vector<ShownLight::Samp
     const double kept = keptLight(t);
     if (kept > bestKept + kShownShare * total) best = std::move(t), bestKept = kept;
   }
+  std::size_t count = 0;
+  for (const ShownLight::Sample& x : best) count += x.pieces;
   std::vector<ShownLight::Sample> pieces;
+  pieces.reserve(count);
   for (ShownLight::Sample& x : best) {
     if (x.pieces == 0) continue;
     const std::uint32_t first = std::uint32_t(pieces.size());

@@ -110,6 +110,10 @@ TEST(IsFile, RoundTripEvaluatesBitIdentically) {
   loaded.load(bytes, saved);
   EXPECT_EQ(fingerprint(loaded, saved), fingerprint(*s.ext, s.scene.host)) << "shooting";
   EXPECT_EQ(testutil::savedBytes(loaded), bytes) << "shooting: saving again gives the same bytes";
+  std::size_t pieces = 0;  // the round trip carried joined pieces
+  for (NodeId leaf : saved.simulatedLeaves(loaded))
+    if (const auto* l = loaded.light(leaf); l && l->shown) pieces += l->shown->deposited.size();
+  EXPECT_GT(pieces, 0u);
 }
 
 TEST(IsFile, DamagedSectionsAreRefused) {
@@ -206,6 +210,9 @@ TEST(IsFile, ForeignOrMismatchedSectionsAreRefusedWithAClearMessage) {
   const std::uint32_t many = 1000;
   std::memcpy(&pieces[pieces.size() - 172], &many, 4);
   expectRefusal(ext, resealed(pieces), saved, "names pieces beyond the");
+  std::string first = body;  // its first piece past them
+  std::memcpy(&first[first.size() - 176], &many, 4);
+  expectRefusal(ext, resealed(first), saved, "names pieces beyond the");
   std::string width = body;
   std::memcpy(&width[width.size() - 8], &minusOne, 8);
   expectRefusal(ext, resealed(width), saved, "shown light: sample");
