@@ -145,6 +145,11 @@ void checkHaar(const HaarDistribution& h, int maxLevel) {
       refuse("light below a leaf's horizon");
 }
 
+/// Whether a shown sample's piece range lies within the m pieces of its light (none: first piece 0).
+bool piecesFit(std::uint64_t first, std::uint64_t pieces, std::uint64_t m) {
+  return pieces > 0 ? first < m && pieces <= m - first : first == 0;
+}
+
 Vec3 readVec(std::istream& in) {
   const double x = serial::readF64(in), y = serial::readF64(in), z = serial::readF64(in);
   return Vec3(x, y, z);
@@ -207,7 +212,7 @@ void IlluminationSamples::readShown(std::istream& in, Table& table) const {
     for (std::uint64_t j = 0; j < m; ++j) sh->deposited.push_back(readSample("piece", j));
     for (std::uint32_t j = 0; j < n; ++j) {
       const std::uint32_t first = serial::readU32(in), pieces = serial::readU32(in);
-      if (pieces > 0 ? first >= m || pieces > m - first : first != 0)
+      if (!piecesFit(first, pieces, m))
         refuse(where + ": sample " + std::to_string(j) + " names pieces beyond the " + std::to_string(m) +
                " there are");
       ShownLight::Sample y = readSample("sample", j);
@@ -259,8 +264,7 @@ void IlluminationSamples::save(std::ostream& sink) const {
       for (const ShownLight::Sample& x : sh->deposited) sample(x);
       for (const ShownLight::Sample& x : sh->samples) {
         // What the reader refuses is never written.
-        const std::size_t m = sh->deposited.size();
-        if (x.pieces > 0 ? x.firstPiece >= m || x.pieces > m - x.firstPiece : x.firstPiece != 0)
+        if (!piecesFit(x.firstPiece, x.pieces, sh->deposited.size()))
           throw std::logic_error("solution section: a shown sample names pieces it does not have");
         serial::writeU32(out, x.firstPiece), serial::writeU32(out, x.pieces);
         sample(x);

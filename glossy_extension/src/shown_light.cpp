@@ -375,7 +375,7 @@ Rgb cellMeanNow(const ShownLight& s, const Frame& frame, double area, int level,
   for (const ShownLight::Sample& x : s.samples)
     if (x.pieces == 0) add(x);
     else
-      for (std::uint32_t k = x.firstPiece; k < x.firstPiece + x.pieces; ++k) add(s.deposited[k]);
+      for (const ShownLight::Sample& p : s.piecesOf(x)) add(p);
   // At the leaf's own level and summed up to the cell read, as the stored tree's means were: the
   // same quadrature, so the two means differ by rounding alone. A cell finer than that level (a
   // re-projected child's) gets the mean of the cell of that level holding it.

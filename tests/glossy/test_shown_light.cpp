@@ -255,8 +255,7 @@ TEST(ShownLight, AJoinedSourceTakesOutItsPiecesAsDeposited) {
       ++joined;
       ASSERT_LE(std::size_t(x.firstPiece) + x.pieces, l.deposited.size());
       glm::dvec3 sum(0.0);
-      for (std::uint32_t k = x.firstPiece; k < x.firstPiece + x.pieces; ++k)
-        sum += glm::dvec3(l.deposited[k].irradiance);
+      for (const auto& p : l.piecesOf(x)) sum += glm::dvec3(p.irradiance);
       EXPECT_NEAR(sum.x, double(x.irradiance.x), 1e-5 * sum.x);
     }
     EXPECT_GT(joined, 0u);
@@ -267,8 +266,7 @@ TEST(ShownLight, AJoinedSourceTakesOutItsPiecesAsDeposited) {
   apart.samples.clear(), apart.deposited.clear();
   for (const auto& x : one->samples)
     if (x.pieces == 0) apart.samples.push_back(x);
-    else apart.samples.insert(apart.samples.end(), one->deposited.begin() + x.firstPiece,
-                              one->deposited.begin() + x.firstPiece + x.pieces);
+    else apart.samples.insert(apart.samples.end(), one->piecesOf(x).begin(), one->piecesOf(x).end());
   const glossy::Frame up = glossy::Frame::around(Vec3(0, 0, 1));
   const std::uint64_t cells = 4u << (2 * 4);  // the leaf's level, 4
   std::vector<double> joinedMeans(cells), apartMeans(cells);

@@ -71,6 +71,10 @@ struct ShownLight {
   // the display takes out is of these, the lobes the stored distribution holds, not of the joined
   // source, which the solve never reflected (docs/glossy.md, "Pieces taken out as deposited").
   std::vector<Sample> deposited;
+  /// A joined sample's pieces (none for a sample that is itself).
+  std::span<const Sample> piecesOf(const Sample& x) const {
+    return {deposited.data() + x.firstPiece, x.pieces};
+  }
   double total = 0.0;           // luminance of all the irradiance the leaf received, W/m^2
   Rgb specular{0.0};            // the material's rho_s
   double exponent = 1.0;        // the Phong exponent the leaf reflected with
